@@ -1,0 +1,98 @@
+# geoblock build.  `make` builds the optimized program, `make debug` the checked
+# one, `make run` / `make test` / `make bench` install what is missing, build
+# and run.  Module dependencies are generated from the sources (tools/fdeps.sh).
+
+BUILD ?= opt
+FC := mpif90
+NP ?= 2
+MPIRUN ?= mpirun --oversubscribe
+export OMPI_ALLOW_RUN_AS_ROOT := 1
+export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
+export OMPI_MCA_rmaps_base_oversubscribe := 1
+
+HDF5_INC := /usr/include/hdf5/openmpi
+HDF5_LIB := /usr/lib/x86_64-linux-gnu/hdf5/openmpi
+
+WARN := -std=f2008 -fimplicit-none -Wall -Wextra -Wno-unused-dummy-argument -Wno-compare-reals
+ifeq ($(BUILD),debug)
+  FFLAGS := -O0 -g $(WARN) -fcheck=all -fbacktrace -ffpe-trap=invalid,zero,overflow -finit-real=snan
+  EXE_SUFFIX := -debug
+else
+  FFLAGS := -O2 -g -march=x86-64-v2 $(WARN)
+  EXE_SUFFIX :=
+endif
+
+BDIR := build/$(BUILD)
+ODIR := $(BDIR)/obj
+MDIR := $(BDIR)/mod
+INC := -I$(HDF5_INC) -I/usr/include -J$(MDIR) -I$(MDIR)
+LIBS := -L$(HDF5_LIB) -lhdf5_fortran -lhdf5 -lHYPRE -ldmumps -lmumps_common -lpord \
+        -lscalapack-openmpi -lmetis -llapack -lblas
+
+LIB_SRC := $(sort $(wildcard modules/*/*.f90) $(filter-out src/geoblock.f90,$(wildcard src/*.f90 src/*/*.f90)))
+TEST_COMMON := $(wildcard tests/common/*.f90)
+TEST_SRC := $(sort $(wildcard tests/unit/test_*.f90 tests/verification/test_*.f90 tests/invariance/test_*.f90))
+MAIN_SRC := src/geoblock.f90
+ALL_SRC := $(LIB_SRC) $(TEST_COMMON) $(TEST_SRC) $(MAIN_SRC)
+
+obj = $(addprefix $(ODIR)/,$(notdir $(1:.f90=.o)))
+LIB_OBJ := $(call obj,$(LIB_SRC))
+TEST_COMMON_OBJ := $(call obj,$(TEST_COMMON))
+TEST_BIN := $(addprefix bin/tests/,$(notdir $(TEST_SRC:.f90=$(EXE_SUFFIX))))
+LIBGB := $(BDIR)/libgeoblock.a
+EXE := bin/geoblock$(EXE_SUFFIX)
+
+vpath %.f90 $(sort $(dir $(ALL_SRC)))
+
+.PHONY: all debug tests run test bench deps clean help
+.DEFAULT_GOAL := all
+
+all: $(EXE)
+
+debug:
+	$(MAKE) BUILD=debug all tests
+
+tests: $(TEST_BIN)
+
+$(EXE): $(call obj,$(MAIN_SRC)) $(LIBGB) | bin
+	$(FC) $(FFLAGS) -o $@ $^ $(LIBS)
+
+bin/tests/%$(EXE_SUFFIX): $(ODIR)/%.o $(TEST_COMMON_OBJ) $(LIBGB) | bin/tests
+	$(FC) $(FFLAGS) -o $@ $^ $(LIBS)
+
+$(LIBGB): $(LIB_OBJ)
+	ar rcs $@ $^
+
+$(ODIR)/%.o: %.f90 | $(ODIR) $(MDIR)
+	$(FC) $(FFLAGS) $(INC) -c $< -o $@
+
+$(BDIR)/deps.mk: $(ALL_SRC) tools/fdeps.sh | $(ODIR)
+	@bash tools/fdeps.sh $(ODIR) $(ALL_SRC) > $@
+
+-include $(BDIR)/deps.mk
+
+$(ODIR) $(MDIR) bin bin/tests:
+	@mkdir -p $@
+
+deps:
+	@bash tools/install_deps.sh
+
+# The default deck on 2 ranks.
+DECK ?= input/cube.nml
+run: deps
+	$(MAKE) all
+	$(MPIRUN) -np $(NP) $(EXE) $(DECK)
+
+test: deps
+	$(MAKE) all tests
+	@bash tests/run_tests.sh
+
+bench: deps
+	$(MAKE) all
+	@bash bench/run_bench.sh
+
+clean:
+	rm -rf build bin
+
+help:
+	@echo "make [all|debug|run|test|bench|clean]  (BUILD=opt|debug, NP=ranks, DECK=deck)"

@@ -1,0 +1,86 @@
+!> Distributed vectors: owned values plus ghost copies, laid out as an
+!> index_map numbers them, and the reductions over owned entries.
+module dist_vector
+  use kinds, only: rp, ip
+  use parallel_comm, only: parallel_comm_t
+  use index_map, only: index_map_t
+  implicit none
+  private
+
+  public :: dist_vector_t, pdot, pnorm2, pmax_abs
+
+  type :: dist_vector_t
+    type(index_map_t), pointer :: map => null()
+    real(rp), allocatable :: x(:)          !< (n_owned + n_ghost)
+  contains
+    procedure :: init
+    procedure :: owned
+    procedure :: import
+    procedure :: export_add
+    procedure :: norm2 => vec_norm2
+    procedure :: free
+  end type dist_vector_t
+
+contains
+
+  subroutine init(self, map)
+    class(dist_vector_t), intent(inout) :: self
+    type(index_map_t), intent(in), target :: map
+    self%map => map
+    if (allocated(self%x)) deallocate(self%x)
+    allocate(self%x(map%n_local()))
+    self%x = 0.0_rp
+  end subroutine init
+
+  !> Copy of the owned part.
+  function owned(self) result(v)
+    class(dist_vector_t), intent(in) :: self
+    real(rp), allocatable :: v(:)
+    v = self%x(1:self%map%n_owned)
+  end function owned
+
+  subroutine import(self)
+    class(dist_vector_t), intent(inout) :: self
+    call self%map%import(self%x)
+  end subroutine import
+
+  subroutine export_add(self)
+    class(dist_vector_t), intent(inout) :: self
+    call self%map%export_add(self%x)
+  end subroutine export_add
+
+  real(rp) function vec_norm2(self)
+    class(dist_vector_t), intent(in) :: self
+    vec_norm2 = pnorm2(self%map%comm, self%x(1:self%map%n_owned))
+  end function vec_norm2
+
+  subroutine free(self)
+    class(dist_vector_t), intent(inout) :: self
+    if (allocated(self%x)) deallocate(self%x)
+    self%map => null()
+  end subroutine free
+
+  !> Global dot product of owned parts.
+  real(rp) function pdot(comm, x, y)
+    type(parallel_comm_t), intent(in) :: comm
+    real(rp), intent(in) :: x(:), y(:)
+    pdot = comm%sum(dot_product(x, y))
+  end function pdot
+
+  !> Global Euclidean norm of owned parts.
+  real(rp) function pnorm2(comm, x)
+    type(parallel_comm_t), intent(in) :: comm
+    real(rp), intent(in) :: x(:)
+    pnorm2 = sqrt(comm%sum(dot_product(x, x)))
+  end function pnorm2
+
+  !> Global maximum absolute entry.
+  real(rp) function pmax_abs(comm, x)
+    type(parallel_comm_t), intent(in) :: comm
+    real(rp), intent(in) :: x(:)
+    real(rp) :: m
+    m = 0.0_rp
+    if (size(x) > 0) m = maxval(abs(x))
+    pmax_abs = comm%max(m)
+  end function pmax_abs
+end module dist_vector

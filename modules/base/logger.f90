@@ -1,0 +1,113 @@
+!> Logging: rank 0 writes to standard output and to an optional log file.
+!>
+!> The stops are here too: fatal() is collective (all ranks call it with the
+!> same message, e.g. after a broadcast status), abort() is for an error seen
+!> by one rank only and takes the others down with MPI_Abort, so that no rank
+!> is left waiting.
+module logger
+  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+  use kinds, only: rp, msg_len, path_len
+  use parallel_comm, only: parallel_comm_t
+  implicit none
+  private
+
+  public :: logger_t
+
+  type :: logger_t
+    integer :: rank = 0
+    integer :: unit = -1            !< log file unit on rank 0, -1 if none
+    integer :: verbosity = 1        !< 0 quiet, 1 normal, 2 detailed
+  contains
+    procedure :: init
+    procedure :: open_file
+    procedure :: close
+    procedure :: info
+    procedure :: detail
+    procedure :: warn
+    procedure :: fatal
+    procedure :: abort
+  end type logger_t
+
+contains
+
+  subroutine init(self, comm, verbosity)
+    class(logger_t), intent(inout) :: self
+    type(parallel_comm_t), intent(in) :: comm
+    integer, intent(in), optional :: verbosity
+    self%rank = comm%rank
+    if (present(verbosity)) self%verbosity = verbosity
+  end subroutine init
+
+  !> Also write the log to a file (rank 0 only). Returns ios /= 0 on failure.
+  subroutine open_file(self, path, ios)
+    class(logger_t), intent(inout) :: self
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: ios
+    ios = 0
+    if (self%rank /= 0) return
+    open(newunit=self%unit, file=path, status='replace', action='write', iostat=ios)
+    if (ios /= 0) self%unit = -1
+  end subroutine open_file
+
+  subroutine close(self)
+    class(logger_t), intent(inout) :: self
+    if (self%unit >= 0) close(self%unit)
+    self%unit = -1
+  end subroutine close
+
+  !> A line for the user (rank 0).
+  subroutine info(self, msg)
+    class(logger_t), intent(in) :: self
+    character(len=*), intent(in) :: msg
+    if (self%rank /= 0 .or. self%verbosity < 1) return
+    write(output_unit, '(a)') trim(msg)
+    flush(output_unit)
+    if (self%unit >= 0) write(self%unit, '(a)') trim(msg)
+  end subroutine info
+
+  !> A line shown only with verbosity >= 2 (always written to the log file).
+  subroutine detail(self, msg)
+    class(logger_t), intent(in) :: self
+    character(len=*), intent(in) :: msg
+    if (self%rank /= 0) return
+    if (self%verbosity >= 2) write(output_unit, '(a)') trim(msg)
+    if (self%unit >= 0) write(self%unit, '(a)') trim(msg)
+  end subroutine detail
+
+  subroutine warn(self, msg)
+    class(logger_t), intent(in) :: self
+    character(len=*), intent(in) :: msg
+    if (self%rank /= 0) return
+    write(error_unit, '(a)') 'geoblock: warning: '//trim(msg)
+    if (self%unit >= 0) write(self%unit, '(a)') 'warning: '//trim(msg)
+  end subroutine warn
+
+  !> Collective stop: every rank calls it; rank 0 prints, all exit with status 2.
+  subroutine fatal(self, comm, msg)
+    class(logger_t), intent(inout) :: self
+    type(parallel_comm_t), intent(inout) :: comm
+    character(len=*), intent(in) :: msg
+    if (self%rank == 0) then
+      write(error_unit, '(a)') 'geoblock: error: '//trim(msg)
+      flush(error_unit)
+      if (self%unit >= 0) write(self%unit, '(a)') 'error: '//trim(msg)
+    end if
+    call self%close()
+    call comm%barrier()
+    call comm%finalize()
+    error stop 2
+  end subroutine fatal
+
+  !> Stop from one rank: prints with the rank number and aborts all ranks.
+  subroutine abort(self, comm, msg)
+    class(logger_t), intent(inout) :: self
+    type(parallel_comm_t), intent(in) :: comm
+    character(len=*), intent(in) :: msg
+    character(len=16) :: r
+    write(r, '(i0)') comm%rank
+    write(error_unit, '(a)') 'geoblock: error (rank '//trim(r)//'): '//trim(msg)
+    flush(error_unit)
+    call self%close()
+    call comm%abort(3)
+  end subroutine abort
+end module logger

@@ -1,0 +1,87 @@
+!> Named wall-clock accumulators for the timing summary.
+module timer_set
+  use kinds, only: rp, name_len
+  use parallel_comm, only: parallel_comm_t, wall_time
+  use logger, only: logger_t
+  implicit none
+  private
+
+  public :: timer_set_t
+
+  integer, parameter :: max_timers = 64
+
+  type :: timer_set_t
+    integer :: n = 0
+    character(len=name_len) :: names(max_timers) = ''
+    real(rp) :: total(max_timers) = 0.0_rp
+    real(rp) :: started(max_timers) = -1.0_rp
+    integer :: calls(max_timers) = 0
+  contains
+    procedure :: start
+    procedure :: stop => stop_timer
+    procedure :: elapsed
+    procedure :: report
+  end type timer_set_t
+
+contains
+
+  integer function find(self, name)
+    class(timer_set_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    integer :: i
+    do i = 1, self%n
+      if (self%names(i) == name) then
+        find = i
+        return
+      end if
+    end do
+    if (self%n == max_timers) error stop 'timer_set: too many timers'
+    self%n = self%n + 1
+    self%names(self%n) = name
+    find = self%n
+  end function find
+
+  subroutine start(self, name)
+    class(timer_set_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    integer :: i
+    i = find(self, name)
+    self%started(i) = wall_time()
+  end subroutine start
+
+  !> Stop a timer; returns the seconds of this interval if asked.
+  subroutine stop_timer(self, name, seconds)
+    class(timer_set_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    real(rp), intent(out), optional :: seconds
+    integer :: i
+    real(rp) :: dt
+    i = find(self, name)
+    dt = 0.0_rp
+    if (self%started(i) >= 0.0_rp) dt = wall_time() - self%started(i)
+    self%total(i) = self%total(i) + dt
+    self%calls(i) = self%calls(i) + 1
+    self%started(i) = -1.0_rp
+    if (present(seconds)) seconds = dt
+  end subroutine stop_timer
+
+  real(rp) function elapsed(self, name)
+    class(timer_set_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    elapsed = self%total(find(self, name))
+  end function elapsed
+
+  !> Timing summary: the maximum over ranks of each accumulator.
+  subroutine report(self, comm, log)
+    class(timer_set_t), intent(in) :: self
+    type(parallel_comm_t), intent(in) :: comm
+    type(logger_t), intent(in) :: log
+    integer :: i
+    character(len=160) :: line
+    call log%info('timing summary (seconds, maximum over ranks)')
+    do i = 1, self%n
+      write(line, '(2x,a32,f12.3,i8,a)') self%names(i), comm%max(self%total(i)), self%calls(i), ' calls'
+      call log%info(line)
+    end do
+  end subroutine report
+end module timer_set

@@ -1,0 +1,51 @@
+!> Abstract Krylov solver and the report of one solve.
+module krylov
+  use kinds, only: rp, ip, name_len, msg_len
+  use parallel_comm, only: parallel_comm_t
+  use linear_operator, only: linear_operator_t
+  use precon, only: precon_t
+  implicit none
+  private
+
+  public :: krylov_t, solve_info_t
+
+  !> What one linear solve did.
+  type :: solve_info_t
+    integer :: iterations = 0
+    real(rp) :: res0 = 0.0_rp              !< initial residual norm
+    real(rp) :: rel_res = 0.0_rp           !< final residual / ||b||
+    logical :: converged = .false.
+    real(rp) :: solve_time = 0.0_rp
+    real(rp), allocatable :: history(:)    !< relative residual per iteration (0..iterations)
+    character(len=msg_len) :: msg = ''     !< why it stopped when it did not converge
+  end type solve_info_t
+
+  type, abstract :: krylov_t
+    type(parallel_comm_t) :: comm
+    real(rp) :: rtol = 1.0e-8_rp           !< relative to ||b||
+    real(rp) :: atol = 0.0_rp
+    integer :: max_iter = 1000
+    integer :: restart = 100
+  contains
+    procedure(solve_iface), deferred :: solve
+    procedure(name_iface), deferred :: name
+  end type krylov_t
+
+  abstract interface
+    !> Solve A x = b with preconditioner m; x holds the initial guess on entry.
+    subroutine solve_iface(self, a, m, b, x, info)
+      import :: krylov_t, linear_operator_t, precon_t, rp, solve_info_t
+      class(krylov_t), intent(inout) :: self
+      class(linear_operator_t), intent(inout) :: a
+      class(precon_t), intent(inout) :: m
+      real(rp), intent(in) :: b(:)
+      real(rp), intent(inout) :: x(:)
+      type(solve_info_t), intent(out) :: info
+    end subroutine solve_iface
+    function name_iface(self) result(s)
+      import :: krylov_t, name_len
+      class(krylov_t), intent(in) :: self
+      character(len=name_len) :: s
+    end function name_iface
+  end interface
+end module krylov
