@@ -1,13 +1,13 @@
 !> Distributed vectors: owned values plus ghost copies, laid out as an
 !> index_map numbers them, and the reductions over owned entries.
 module dist_vector
-  use kinds, only: rp, ip
+  use kinds, only: rp, ip, gp
   use parallel_comm, only: parallel_comm_t
   use index_map, only: index_map_t
   implicit none
   private
 
-  public :: dist_vector_t, pdot, pnorm2, pmax_abs
+  public :: dist_vector_t, pdot, pnorm2, pmax_abs, write_vector_market
 
   type :: dist_vector_t
     type(index_map_t), pointer :: map => null()
@@ -83,4 +83,35 @@ contains
     if (size(x) > 0) m = maxval(abs(x))
     pmax_abs = comm%max(m)
   end function pmax_abs
+
+  !> Write the owned parts of a distributed vector (global length n_global) as
+  !> one MatrixMarket array file; ranks append in turn. Collective.
+  subroutine write_vector_market(comm, path, v, n_global, ios)
+    type(parallel_comm_t), intent(in) :: comm
+    character(len=*), intent(in) :: path
+    real(rp), intent(in) :: v(:)
+    integer(gp), intent(in) :: n_global
+    integer, intent(out) :: ios
+    integer :: u, p, i
+    ios = 0
+    do p = 0, comm%size - 1
+      if (comm%rank == p) then
+        if (p == 0) then
+          open(newunit=u, file=path, status='replace', action='write', iostat=ios)
+          if (ios == 0) write(u, '(a/a/i0,1x,i0)') '%%MatrixMarket matrix array real general', &
+                                                  '% written by geoblock', n_global, 1
+        else
+          open(newunit=u, file=path, status='old', position='append', action='write', iostat=ios)
+        end if
+        if (ios == 0) then
+          do i = 1, size(v)
+            write(u, '(es24.16e3)') v(i)
+          end do
+          close(u)
+        end if
+      end if
+      call comm%barrier()
+    end do
+    ios = comm%max(int(abs(ios), ip))
+  end subroutine write_vector_market
 end module dist_vector

@@ -95,7 +95,7 @@ contains
     call self%close()
     call comm%barrier()
     call comm%finalize()
-    error stop 2
+    stop 2
   end subroutine fatal
 
   !> Stop from one rank: prints with the rank number and aborts all ranks.

@@ -48,6 +48,7 @@ module parallel_comm
     generic :: recv => recv_i, recv_g, recv_r
     procedure :: exchange_r
     procedure :: exscan_g
+    procedure :: sync_error
   end type parallel_comm_t
 
   interface
@@ -416,6 +417,21 @@ contains
     end do
     call MPI_Waitall(nreq, req(1:nreq), MPI_STATUSES_IGNORE)
   end subroutine exchange_r
+
+  !> Make an error seen by some ranks known to all: on return every rank has
+  !> the code and message of the lowest rank whose code was nonzero (or 0).
+  subroutine sync_error(self, code, msg)
+    class(parallel_comm_t), intent(in) :: self
+    integer, intent(inout) :: code
+    character(len=*), intent(inout) :: msg
+    integer :: first, mine
+    mine = huge(1)
+    if (code /= 0) mine = self%rank
+    call MPI_Allreduce(mine, first, 1, MPI_INTEGER, MPI_MIN, self%comm)
+    if (first == huge(1)) return
+    call MPI_Bcast(code, 1, MPI_INTEGER, first, self%comm)
+    call MPI_Bcast(msg, len(msg), MPI_CHARACTER, first, self%comm)
+  end subroutine sync_error
 
   !> Wall-clock time in seconds.
   function wall_time() result(t)

@@ -102,6 +102,6 @@ contains
       flush(output_unit)
     end if
     call self%comm%finalize()
-    if (self%failed > 0) error stop 1
+    if (self%failed > 0) stop 1
   end subroutine finish
 end module assertions

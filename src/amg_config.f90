@@ -1,0 +1,68 @@
+!> Deck group &amg: the BoomerAMG settings (optional; defaults suit 3D Q1
+!> elasticity). Variables have the names of amg_params_t's fields; see
+!> modules/numerics/amg_params.f90 for their meaning, ids and defaults:
+!>   num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor,
+!>   agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths,
+!>   strong_threshold, max_row_sum, max_levels, max_coarse_size, relax_type,
+!>   num_sweeps, relax_wt, print_level
+module amg_config
+  use kinds, only: rp, name_len, msg_len
+  use error_status, only: error_status_t
+  use logger, only: logger_t
+  use deck, only: deck_t, line_len, echo_len
+  use amg_params, only: amg_params_t
+  implicit none
+  private
+
+  public :: read_amg_config
+
+contains
+
+  !> Read &amg into params (which keeps its defaults for what the deck leaves out).
+  subroutine read_amg_config(d, log, params, status)
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(in) :: log
+    type(amg_params_t), intent(inout) :: params
+    type(error_status_t), intent(inout) :: status
+    integer :: num_functions, nodal, p_max_elmts, agg_num_levels, agg_p_max_elmts, num_paths, &
+               max_levels, max_coarse_size, num_sweeps, print_level, ios
+    character(len=name_len) :: coarsen_type, interp_type, agg_interp_type, relax_type
+    real(rp) :: trunc_factor, strong_threshold, max_row_sum, relax_wt
+    type(error_status_t) :: vstat
+    character(len=msg_len) :: msg
+    character(len=line_len), allocatable :: b(:)
+    character(len=echo_len) :: echo(32)
+    namelist /amg/ num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor, &
+                   agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths, strong_threshold, &
+                   max_row_sum, max_levels, max_coarse_size, relax_type, num_sweeps, relax_wt, print_level
+
+    num_functions = params%num_functions; nodal = params%nodal; coarsen_type = params%coarsen_type
+    interp_type = params%interp_type; p_max_elmts = params%p_max_elmts; trunc_factor = params%trunc_factor
+    agg_num_levels = params%agg_num_levels; agg_interp_type = params%agg_interp_type
+    agg_p_max_elmts = params%agg_p_max_elmts; num_paths = params%num_paths
+    strong_threshold = params%strong_threshold; max_row_sum = params%max_row_sum
+    max_levels = params%max_levels; max_coarse_size = params%max_coarse_size; relax_type = params%relax_type
+    num_sweeps = params%num_sweeps; relax_wt = params%relax_wt; print_level = params%print_level
+    if (d%count('amg') > 0) then
+      call d%block('amg', 1, b)
+      read(b, nml=amg, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call d%read_error('amg', 1, ios, msg, status)
+        return
+      end if
+    end if
+    params = amg_params_t(num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor, &
+                       agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths, strong_threshold, &
+                       max_row_sum, max_levels, max_coarse_size, relax_type, num_sweeps, relax_wt, print_level)
+    call params%validate(vstat)
+    if (.not. vstat%ok()) then
+      write(msg, '(a,i0,a)') "deck '"//trim(d%path)//"', group &amg (line ", d%first_line('amg', 1), "): "// &
+        trim(vstat%msg(len('amg_params: ') + 1:))
+      call status%set(msg)
+      return
+    end if
+    echo = ''
+    write(echo, nml=amg, iostat=ios)
+    call d%echo(log, echo)
+  end subroutine read_amg_config
+end module amg_config

@@ -1,0 +1,406 @@
+!> The distributed mesh: this rank's owned cells plus one layer of ghost cells
+!> (every cell that shares a node with an owned cell), their nodes and faces.
+!>
+!> Ownership: a cell belongs to the rank METIS gave it; a node or a face to the
+!> lowest rank among the cells that touch it. Global ids are renumbered so that
+!> each rank owns a contiguous range (rank order, then the original order),
+!> which is what hypre and the index maps want. Local numbering: owned first
+!> (in global order), then ghosts (in global order). With this layer, every
+!> cell that touches an owned node or face is local, so the matrix pattern of
+!> owned rows is known without communication.
+module dist_mesh
+  use kinds, only: rp, ip, gp, name_len, msg_len
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use index_map, only: index_map_t
+  use mesh, only: mesh_t
+  implicit none
+  private
+
+  public :: dist_mesh_t
+
+  type :: dist_mesh_t
+    type(parallel_comm_t) :: comm
+    type(index_map_t) :: node_map, cell_map, face_map
+    integer(ip) :: n_nodes = 0, n_cells = 0, n_faces = 0    !< local (owned + ghost)
+    integer(gp) :: n_nodes_global = 0, n_cells_global = 0, n_faces_global = 0
+    real(rp), allocatable :: coords(:,:)            !< (3, n_nodes)
+    integer(ip), allocatable :: cell_nodes(:,:)     !< (8, n_cells) local node ids
+    integer(ip), allocatable :: cell_region(:)      !< (n_cells)
+    integer(ip), allocatable :: cell_owner(:)       !< (n_cells) owning rank
+    integer(ip), allocatable :: cell_faces(:,:)     !< (6, n_cells) local face ids
+    integer(ip), allocatable :: cell_face_sign(:,:) !< (6, n_cells)
+    integer(ip), allocatable :: face_nodes(:,:)     !< (4, n_faces) local node ids
+    integer(ip), allocatable :: face_cells(:,:)     !< (2, n_faces) local cell ids, 0 = absent here or boundary
+    logical, allocatable :: face_on_boundary(:)     !< (n_faces)
+    character(len=name_len), allocatable :: region_names(:), set_names(:)
+    integer(ip) :: n_sfaces = 0                     !< tagged quads whose face is local
+    integer(ip), allocatable :: sface_face(:), sface_set(:)
+    integer(ip), allocatable :: set_node_ptr(:), set_nodes(:)  !< local nodes on each set (CSR layout)
+  contains
+    procedure :: build
+    procedure :: n_owned_nodes
+    procedure :: n_owned_cells
+    procedure :: n_owned_faces
+    procedure :: set_id
+    procedure :: region_id
+    procedure :: cell_volume
+    procedure :: free
+  end type dist_mesh_t
+
+contains
+
+  !> Distribute the global mesh held by rank 0 according to part (rank 0's
+  !> arrays; other ranks pass an empty mesh and an unallocated part). Collective.
+  subroutine build(self, comm, gmesh, part, status)
+    class(dist_mesh_t), intent(inout) :: self
+    type(parallel_comm_t), intent(in) :: comm
+    type(mesh_t), intent(inout) :: gmesh
+    integer(ip), intent(inout), allocatable :: part(:)
+    type(error_status_t), intent(inout) :: status
+    integer(ip), allocatable :: node_owner(:), face_owner(:), g2l(:), lcells(:), lnodes(:), lfaces(:)
+    integer(gp), allocatable :: node_gid(:), cell_gid(:), face_gid(:)
+    logical, allocatable :: touched(:), is_local(:)
+    integer(ip) :: me, c, k, n, f, s, nown, i, j
+
+    call self%free()
+    self%comm = comm
+    me = comm%rank
+    call bcast_mesh(comm, gmesh)
+    if (.not. comm%is_root()) allocate(part(gmesh%n_cells))
+    call comm%bcast(part)
+
+    ! owners and contiguous global numbering
+    allocate(node_owner(gmesh%n_nodes), face_owner(gmesh%n_faces))
+    node_owner = huge(1_ip)
+    do c = 1, gmesh%n_cells
+      do k = 1, 8
+        n = gmesh%cell_nodes(k, c)
+        node_owner(n) = min(node_owner(n), part(c))
+      end do
+    end do
+    do f = 1, gmesh%n_faces
+      face_owner(f) = part(gmesh%face_cells(1, f))
+      if (gmesh%face_cells(2, f) > 0) face_owner(f) = min(face_owner(f), part(gmesh%face_cells(2, f)))
+    end do
+    node_gid = renumber(node_owner, comm%size)
+    cell_gid = renumber(part, comm%size)
+    face_gid = renumber(face_owner, comm%size)
+    self%n_nodes_global = gmesh%n_nodes
+    self%n_cells_global = gmesh%n_cells
+    self%n_faces_global = gmesh%n_faces
+
+    ! local cells: owned, then ghosts sharing a node with an owned cell
+    allocate(touched(gmesh%n_nodes), is_local(gmesh%n_cells))
+    touched = .false.
+    do c = 1, gmesh%n_cells
+      if (part(c) == me) touched(gmesh%cell_nodes(:, c)) = .true.
+    end do
+    do c = 1, gmesh%n_cells
+      is_local(c) = part(c) == me .or. any(touched(gmesh%cell_nodes(:, c)))
+    end do
+    lcells = ordered_local(is_local, part == me, cell_gid)
+    nown = count(part == me)
+    self%n_cells = size(lcells, kind=ip)
+    call self%cell_map%init(comm, nown, cell_gid(lcells(nown+1:)))
+
+    ! local nodes: those of the local cells
+    touched = .false.
+    do i = 1, self%n_cells
+      touched(gmesh%cell_nodes(:, lcells(i))) = .true.
+    end do
+    lnodes = ordered_local(touched, node_owner == me, node_gid)
+    nown = count(node_owner == me)
+    self%n_nodes = size(lnodes, kind=ip)
+    call self%node_map%init(comm, nown, node_gid(lnodes(nown+1:)))
+
+    ! local faces: those of the local cells
+    deallocate(is_local)
+    allocate(is_local(gmesh%n_faces))
+    is_local = .false.
+    do i = 1, self%n_cells
+      is_local(gmesh%cell_faces(:, lcells(i))) = .true.
+    end do
+    lfaces = ordered_local(is_local, face_owner == me, face_gid)
+    nown = count(face_owner == me)
+    self%n_faces = size(lfaces, kind=ip)
+    call self%face_map%init(comm, nown, face_gid(lfaces(nown+1:)))
+
+    ! local connectivity
+    allocate(g2l(max(gmesh%n_nodes, gmesh%n_cells, gmesh%n_faces)))
+    g2l = 0
+    do i = 1, self%n_nodes
+      g2l(lnodes(i)) = i
+    end do
+    allocate(self%coords(3, self%n_nodes))
+    self%coords = gmesh%coords(:, lnodes)
+    allocate(self%cell_nodes(8, self%n_cells), self%face_nodes(4, self%n_faces))
+    do i = 1, self%n_cells
+      self%cell_nodes(:, i) = g2l(gmesh%cell_nodes(:, lcells(i)))
+    end do
+    do i = 1, self%n_faces
+      self%face_nodes(:, i) = g2l(gmesh%face_nodes(:, lfaces(i)))
+    end do
+    ! node sets: local nodes on the tagged quads of each set
+    self%set_names = gmesh%set_names
+    self%region_names = gmesh%region_names
+    allocate(self%set_node_ptr(size(gmesh%set_names) + 1))
+    call node_sets(self, gmesh, g2l)
+
+    g2l = 0
+    do i = 1, self%n_faces
+      g2l(lfaces(i)) = i
+    end do
+    allocate(self%cell_faces(6, self%n_cells), self%cell_face_sign(6, self%n_cells))
+    do i = 1, self%n_cells
+      self%cell_faces(:, i) = g2l(gmesh%cell_faces(:, lcells(i)))
+      self%cell_face_sign(:, i) = gmesh%cell_face_sign(:, lcells(i))
+    end do
+    self%n_sfaces = count(g2l(gmesh%sface_face) > 0)
+    allocate(self%sface_face(self%n_sfaces), self%sface_set(self%n_sfaces))
+    j = 0
+    do s = 1, gmesh%n_sfaces
+      if (g2l(gmesh%sface_face(s)) > 0) then
+        j = j + 1
+        self%sface_face(j) = g2l(gmesh%sface_face(s))
+        self%sface_set(j) = gmesh%sface_set(s)
+      end if
+    end do
+
+    g2l = 0
+    do i = 1, self%n_cells
+      g2l(lcells(i)) = i
+    end do
+    allocate(self%face_cells(2, self%n_faces), self%face_on_boundary(self%n_faces))
+    do i = 1, self%n_faces
+      f = lfaces(i)
+      self%face_on_boundary(i) = gmesh%face_cells(2, f) == 0
+      self%face_cells(1, i) = g2l(gmesh%face_cells(1, f))
+      self%face_cells(2, i) = 0
+      if (gmesh%face_cells(2, f) > 0) self%face_cells(2, i) = g2l(gmesh%face_cells(2, f))
+    end do
+    self%cell_region = gmesh%cell_region(lcells)
+    self%cell_owner = part(lcells)
+
+    if (.not. comm%is_root()) then
+      call gmesh%free()
+      deallocate(part)
+    end if
+    if (comm%any_true(self%cell_map%n_owned == 0)) &
+      call status%set('distributed mesh: a rank has no cells (fewer cells than ranks?)')
+  end subroutine build
+
+  !> Contiguous global numbering by owner: owner ranks in order, and the
+  !> original order within each rank. Returns 1-based global ids.
+  function renumber(owner, np) result(gid)
+    integer(ip), intent(in) :: owner(:)
+    integer, intent(in) :: np
+    integer(gp), allocatable :: gid(:)
+    integer(gp) :: next(0:np)
+    integer(ip) :: i
+    next = 0
+    do i = 1, size(owner, kind=ip)
+      next(owner(i) + 1) = next(owner(i) + 1) + 1
+    end do
+    next(0) = 1
+    do i = 1, np
+      next(i) = next(i) + next(i-1)
+    end do
+    allocate(gid(size(owner)))
+    do i = 1, size(owner, kind=ip)
+      gid(i) = next(owner(i))
+      next(owner(i)) = next(owner(i)) + 1
+    end do
+  end function renumber
+
+  !> Original ids of the local entities: owned ones first, then ghosts in
+  !> ascending global id.
+  function ordered_local(is_local, is_owned, gid) result(ids)
+    logical, intent(in) :: is_local(:), is_owned(:)
+    integer(gp), intent(in) :: gid(:)
+    integer(ip), allocatable :: ids(:)
+    integer(ip), allocatable :: ghosts(:), pos(:)
+    integer(gp), allocatable :: key(:)
+    integer(ip) :: i, k, nown, ngh
+    nown = count(is_owned)
+    ngh = count(is_local .and. .not. is_owned)
+    allocate(ids(nown + ngh), ghosts(ngh), key(ngh), pos(ngh))
+    k = 0
+    do i = 1, size(is_owned, kind=ip)
+      if (is_owned(i)) then
+        k = k + 1
+        ids(k) = i
+      end if
+    end do
+    k = 0
+    do i = 1, size(is_owned, kind=ip)
+      if (is_local(i) .and. .not. is_owned(i)) then
+        k = k + 1
+        ghosts(k) = i
+        key(k) = gid(i)
+      end if
+    end do
+    call sort_by_key(key, pos)
+    ids(nown+1:) = ghosts(pos)
+  end function ordered_local
+
+  subroutine sort_by_key(key, pos)
+    use index_map, only: sort_gids
+    integer(gp), intent(inout) :: key(:)
+    integer(ip), intent(out) :: pos(:)
+    call sort_gids(key, pos)
+  end subroutine sort_by_key
+
+  !> For each tagged set, the local nodes lying on its quads.
+  subroutine node_sets(self, gmesh, g2l)
+    type(dist_mesh_t), intent(inout) :: self
+    type(mesh_t), intent(in) :: gmesh
+    integer(ip), intent(in) :: g2l(:)
+    logical, allocatable :: on(:)
+    integer(ip) :: ns, s, q, k, n, total
+    integer(ip), allocatable :: lists(:)
+    ns = size(gmesh%set_names, kind=ip)
+    allocate(on(self%n_nodes))
+    allocate(lists(0))
+    self%set_node_ptr(1) = 1
+    total = 0
+    do s = 1, ns
+      on = .false.
+      do q = 1, gmesh%n_sfaces
+        if (gmesh%sface_set(q) /= s) cycle
+        do k = 1, 4
+          n = g2l(gmesh%sface_nodes(k, q))
+          if (n > 0) on(n) = .true.
+        end do
+      end do
+      lists = [lists, pack([(k, k = 1, self%n_nodes)], on)]
+      total = total + count(on)
+      self%set_node_ptr(s + 1) = total + 1
+    end do
+    self%set_nodes = lists
+  end subroutine node_sets
+
+  !> Broadcast rank 0's global mesh to every rank.
+  subroutine bcast_mesh(comm, m)
+    type(parallel_comm_t), intent(in) :: comm
+    type(mesh_t), intent(inout) :: m
+    integer(ip) :: sizes(6), i
+    if (comm%size == 1) return
+    if (comm%is_root()) sizes = [m%n_nodes, m%n_cells, m%n_sfaces, m%n_faces, &
+                                 size(m%region_names, kind=ip), size(m%set_names, kind=ip)]
+    call comm%bcast(sizes)
+    if (.not. comm%is_root()) then
+      call m%free()
+      m%n_nodes = sizes(1); m%n_cells = sizes(2); m%n_sfaces = sizes(3); m%n_faces = sizes(4)
+      allocate(m%coords(3, m%n_nodes), m%cell_nodes(8, m%n_cells), m%cell_region(m%n_cells))
+      allocate(m%sface_nodes(4, m%n_sfaces), m%sface_set(m%n_sfaces), m%sface_face(m%n_sfaces))
+      allocate(m%face_nodes(4, m%n_faces), m%face_cells(2, m%n_faces))
+      allocate(m%cell_faces(6, m%n_cells), m%cell_face_sign(6, m%n_cells))
+      allocate(m%region_names(sizes(5)), m%set_names(sizes(6)))
+    end if
+    call comm%bcast(m%coords)
+    call comm%bcast(m%cell_nodes)
+    call comm%bcast(m%cell_region)
+    call comm%bcast(m%sface_nodes)
+    call comm%bcast(m%sface_set)
+    call comm%bcast(m%sface_face)
+    call comm%bcast(m%face_nodes)
+    call comm%bcast(m%face_cells)
+    call comm%bcast(m%cell_faces)
+    call comm%bcast(m%cell_face_sign)
+    do i = 1, sizes(5)
+      call comm%bcast(m%region_names(i))
+    end do
+    do i = 1, sizes(6)
+      call comm%bcast(m%set_names(i))
+    end do
+  end subroutine bcast_mesh
+
+  integer(ip) function n_owned_nodes(self)
+    class(dist_mesh_t), intent(in) :: self
+    n_owned_nodes = self%node_map%n_owned
+  end function n_owned_nodes
+
+  integer(ip) function n_owned_cells(self)
+    class(dist_mesh_t), intent(in) :: self
+    n_owned_cells = self%cell_map%n_owned
+  end function n_owned_cells
+
+  integer(ip) function n_owned_faces(self)
+    class(dist_mesh_t), intent(in) :: self
+    n_owned_faces = self%face_map%n_owned
+  end function n_owned_faces
+
+  !> Index of the named tagged set, 0 if none.
+  integer(ip) function set_id(self, name)
+    class(dist_mesh_t), intent(in) :: self
+    character(len=*), intent(in) :: name
+    integer(ip) :: i
+    set_id = 0
+    do i = 1, size(self%set_names, kind=ip)
+      if (self%set_names(i) == name) set_id = i
+    end do
+  end function set_id
+
+  !> Index of the named region, 0 if none.
+  integer(ip) function region_id(self, name)
+    class(dist_mesh_t), intent(in) :: self
+    character(len=*), intent(in) :: name
+    integer(ip) :: i
+    region_id = 0
+    do i = 1, size(self%region_names, kind=ip)
+      if (self%region_names(i) == name) region_id = i
+    end do
+  end function region_id
+
+  !> Volume of local cell c [m^3] (2x2x2 Gauss, exact for trilinear maps).
+  real(rp) function cell_volume(self, c)
+    class(dist_mesh_t), intent(in) :: self
+    integer(ip), intent(in) :: c
+    real(rp), parameter :: g = 0.577350269189625764509148780502_rp
+    real(rp), parameter :: s(3, 8) = reshape([ &
+      -1, -1, -1,  1, -1, -1,  1, 1, -1,  -1, 1, -1, &
+      -1, -1,  1,  1, -1,  1,  1, 1,  1,  -1, 1,  1], [3, 8])
+    real(rp) :: x(3, 8), dn(3, 8), j(3, 3), xi(3)
+    integer :: q, a
+    x = self%coords(:, self%cell_nodes(:, c))
+    cell_volume = 0.0_rp
+    do q = 1, 8
+      xi = g * s(:, q)
+      do a = 1, 8
+        dn(1, a) = 0.125_rp * s(1, a) * (1 + s(2, a) * xi(2)) * (1 + s(3, a) * xi(3))
+        dn(2, a) = 0.125_rp * s(2, a) * (1 + s(1, a) * xi(1)) * (1 + s(3, a) * xi(3))
+        dn(3, a) = 0.125_rp * s(3, a) * (1 + s(1, a) * xi(1)) * (1 + s(2, a) * xi(2))
+      end do
+      j = matmul(x, transpose(dn))
+      cell_volume = cell_volume + (j(1,1)*(j(2,2)*j(3,3)-j(2,3)*j(3,2)) - j(1,2)*(j(2,1)*j(3,3)-j(2,3)*j(3,1)) &
+                    + j(1,3)*(j(2,1)*j(3,2)-j(2,2)*j(3,1)))
+    end do
+  end function cell_volume
+
+  subroutine free(self)
+    class(dist_mesh_t), intent(inout) :: self
+    call self%node_map%free()
+    call self%cell_map%free()
+    call self%face_map%free()
+    if (allocated(self%coords)) deallocate(self%coords)
+    if (allocated(self%cell_nodes)) deallocate(self%cell_nodes)
+    if (allocated(self%cell_region)) deallocate(self%cell_region)
+    if (allocated(self%cell_owner)) deallocate(self%cell_owner)
+    if (allocated(self%cell_faces)) deallocate(self%cell_faces)
+    if (allocated(self%cell_face_sign)) deallocate(self%cell_face_sign)
+    if (allocated(self%face_nodes)) deallocate(self%face_nodes)
+    if (allocated(self%face_cells)) deallocate(self%face_cells)
+    if (allocated(self%face_on_boundary)) deallocate(self%face_on_boundary)
+    if (allocated(self%region_names)) deallocate(self%region_names)
+    if (allocated(self%set_names)) deallocate(self%set_names)
+    if (allocated(self%sface_face)) deallocate(self%sface_face)
+    if (allocated(self%sface_set)) deallocate(self%sface_set)
+    if (allocated(self%set_node_ptr)) deallocate(self%set_node_ptr)
+    if (allocated(self%set_nodes)) deallocate(self%set_nodes)
+    self%n_nodes = 0
+    self%n_cells = 0
+    self%n_faces = 0
+    self%n_sfaces = 0
+  end subroutine free
+end module dist_mesh

@@ -1,0 +1,301 @@
+!> Isotropic linear elasticity on Q1 hexahedra: the displacement field, its
+!> stiffness block K, right-hand side, boundary conditions and cell stresses.
+!>
+!> Dirichlet conditions are imposed symmetrically: the element matrices lose the
+!> rows and columns of prescribed dofs (their known values move to the right-
+!> hand side), and after assembly each prescribed row gets a diagonal entry equal
+!> to the mean diagonal of K, so the matrix stays symmetric positive definite and
+!> well scaled for AMG. Stresses are positive in tension.
+module elasticity
+  use kinds, only: rp, ip, gp, name_len, msg_len
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use csr_matrix, only: csr_matrix_t
+  use dist_mesh, only: dist_mesh_t
+  use dof_map, only: dof_map_t
+  use sparsity, only: element_pattern
+  use quadrature, only: gauss_hex, gauss_quad
+  use hex_q1, only: hex_gradients, quad_shape, quad_area_vector
+  use material_config, only: material_config_t
+  use boundary_config, only: boundary_config_t
+  use vector_function, only: vector_function_t
+  implicit none
+  private
+
+  public :: elasticity_t, lame
+
+  type :: elasticity_t
+    type(dof_map_t) :: u                     !< 3 dofs per node, interleaved
+    type(csr_matrix_t) :: k
+    real(rp), allocatable :: rhs(:)          !< owned dofs
+    real(rp), allocatable :: lambda(:), mu(:), body(:,:)   !< per region [Pa], [N/m^3]
+    logical, allocatable :: fixed(:)         !< per local dof
+    real(rp), allocatable :: fixed_value(:)  !< per local dof, at full load [m]
+    integer(ip), allocatable :: trac_face(:) !< local boundary faces with a traction, on owned cells
+    real(rp), allocatable :: trac_value(:,:) !< (3, n) traction at full load [Pa]
+    real(rp) :: diag_scale = 1.0_rp
+  contains
+    procedure :: init
+    procedure :: assemble
+    procedure :: cell_stress
+    procedure :: free
+  end type elasticity_t
+
+contains
+
+  !> Lame parameters from E [Pa] and nu.
+  pure subroutine lame(e, nu, lambda, mu)
+    real(rp), intent(in) :: e, nu
+    real(rp), intent(out) :: lambda, mu
+    lambda = e * nu / ((1.0_rp + nu) * (1.0_rp - 2.0_rp * nu))
+    mu = e / (2.0_rp * (1.0_rp + nu))
+  end subroutine lame
+
+  !> Dofs, pattern of K, materials per region and boundary data. Collective.
+  !> Every region needs a material; every condition's set must exist.
+  subroutine init(self, mesh, mats, bcs, status)
+    class(elasticity_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    type(material_config_t), intent(in) :: mats(:)
+    type(boundary_config_t), intent(in) :: bcs(:)
+    type(error_status_t), intent(inout) :: status
+    integer(ip), allocatable :: row_ptr(:), col(:)
+    integer(ip) :: r, m, b, s, i, n, c, f, nt
+    character(len=msg_len) :: msg
+
+    call self%free()
+    n = size(mesh%region_names, kind=ip)
+    allocate(self%lambda(n), self%mu(n), self%body(3, n))
+    do r = 1, n
+      m = 0
+      do i = 1, size(mats, kind=ip)
+        if (mats(i)%region == mesh%region_names(r)) m = i
+      end do
+      if (m == 0) then
+        write(msg, '(a)') "region '"//trim(mesh%region_names(r))//"' of the mesh has no &material group"
+        call status%set(msg)
+        return
+      end if
+      call lame(mats(m)%young, mats(m)%poisson, self%lambda(r), self%mu(r))
+      self%body(:, r) = mats(m)%body_force
+    end do
+    do i = 1, size(mats, kind=ip)
+      if (mesh%region_id(mats(i)%region) == 0) then
+        call status%set("&material for region '"//trim(mats(i)%region)//"', which the mesh does not have")
+        return
+      end if
+    end do
+
+    call self%u%init('displacement', mesh%node_map, 3)
+    call element_pattern(mesh%node_map%n_owned, mesh%cell_nodes, mesh%cell_nodes, 3, 3, row_ptr, col)
+    call self%k%init(self%u%map, self%u%map, row_ptr, col)
+    allocate(self%rhs(self%u%n_owned()))
+
+    allocate(self%fixed(self%u%n_local()), self%fixed_value(self%u%n_local()))
+    self%fixed = .false.
+    self%fixed_value = 0.0_rp
+    nt = 0
+    do b = 1, size(bcs, kind=ip)
+      s = mesh%set_id(bcs(b)%set)
+      if (s == 0) then
+        call status%set("&boundary on set '"//trim(bcs(b)%set)//"', which the mesh does not have")
+        return
+      end if
+      if (bcs(b)%type == 'displacement') then
+        do i = mesh%set_node_ptr(s), mesh%set_node_ptr(s+1) - 1
+          do c = 1, 3
+            if (.not. bcs(b)%fixed(c)) cycle
+            self%fixed(self%u%dof(mesh%set_nodes(i), c)) = .true.
+            self%fixed_value(self%u%dof(mesh%set_nodes(i), c)) = bcs(b)%value(c)
+          end do
+        end do
+      else
+        do i = 1, mesh%n_sfaces
+          if (mesh%sface_set(i) == s) nt = nt + 1
+        end do
+      end if
+    end do
+    ! traction faces: boundary faces of the set whose cell this rank owns
+    allocate(self%trac_face(nt), self%trac_value(3, nt))
+    nt = 0
+    do b = 1, size(bcs, kind=ip)
+      if (bcs(b)%type /= 'traction') cycle
+      s = mesh%set_id(bcs(b)%set)
+      do i = 1, mesh%n_sfaces
+        if (mesh%sface_set(i) /= s) cycle
+        f = mesh%sface_face(i)
+        if (.not. mesh%face_on_boundary(f)) then
+          call status%set("traction on set '"//trim(bcs(b)%set)//"', which is not on the boundary")
+          return
+        end if
+        c = mesh%face_cells(1, f)
+        if (c < 1 .or. c > mesh%cell_map%n_owned) cycle
+        nt = nt + 1
+        self%trac_face(nt) = f
+        self%trac_value(:, nt) = bcs(b)%value
+      end do
+    end do
+    self%trac_face = self%trac_face(1:nt)
+    self%trac_value = self%trac_value(:, 1:nt)
+  end subroutine init
+
+  !> Assemble K and the right-hand side at load factor lf (loads and prescribed
+  !> displacements scaled by lf). Optional body (added to the materials' body
+  !> forces) and dirichlet (replacing the prescribed values) are functions of
+  !> position, for manufactured solutions. Collective.
+  subroutine assemble(self, mesh, lf, body, dirichlet)
+    class(elasticity_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: lf
+    class(vector_function_t), intent(in), optional :: body, dirichlet
+    real(rp), allocatable :: f_loc(:)
+    real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, ke(24, 24), fe(24), ue(24), xq(3), bf(3)
+    real(rp) :: lam, mu, xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), da
+    integer(ip) :: c, q, a, bb, i, j, dofs(24), r, t, f, nown
+    type(parallel_comm_t) :: comm
+    real(rp) :: dsum, dcount
+
+    call self%k%zero()
+    allocate(f_loc(self%u%n_local()))
+    f_loc = 0.0_rp
+    call gauss_hex(2_ip, xi, w)
+    do c = 1, mesh%cell_map%n_owned
+      x = mesh%coords(:, mesh%cell_nodes(:, c))
+      r = mesh%cell_region(c)
+      lam = self%lambda(r)
+      mu = self%mu(r)
+      do a = 1, 8
+        dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1, 2, 3])
+      end do
+      ke = 0.0_rp
+      fe = 0.0_rp
+      do q = 1, 8
+        call hex_gradients(x, xi(:, q), n, g, det)
+        det = det * w(q)
+        bf = self%body(:, r)
+        if (present(body)) then
+          xq = matmul(x, n)
+          bf = bf + body%eval(xq)
+        end if
+        do a = 1, 8
+          fe(3*a-2:3*a) = fe(3*a-2:3*a) + n(a) * bf * det
+          do bb = 1, 8
+            do j = 1, 3
+              do i = 1, 3
+                ke(3*(a-1)+i, 3*(bb-1)+j) = ke(3*(a-1)+i, 3*(bb-1)+j) + det * &
+                  (lam * g(i, a) * g(j, bb) + mu * g(j, a) * g(i, bb))
+              end do
+              ke(3*(a-1)+j, 3*(bb-1)+j) = ke(3*(a-1)+j, 3*(bb-1)+j) + det * mu * dot_product(g(:, a), g(:, bb))
+            end do
+          end do
+        end do
+      end do
+      fe = lf * fe
+      ! prescribed dofs: move their known values to the right-hand side
+      do j = 1, 24
+        if (.not. self%fixed(dofs(j))) cycle
+        a = (j - 1) / 3 + 1
+        i = mod(j - 1, 3) + 1
+        ue(j) = prescribed(dofs(j), mesh%coords(:, mesh%cell_nodes(a, c)), i)
+        fe = fe - ke(:, j) * ue(j)
+        ke(:, j) = 0.0_rp
+        ke(j, :) = 0.0_rp
+        fe(j) = 0.0_rp
+      end do
+      call self%k%add_block(dofs, dofs, ke)
+      f_loc(dofs) = f_loc(dofs) + fe
+    end do
+
+    ! tractions
+    call gauss_quad(2_ip, xiq, wq)
+    do t = 1, size(self%trac_face, kind=ip)
+      f = self%trac_face(t)
+      xf = mesh%coords(:, mesh%face_nodes(:, f))
+      do q = 1, 4
+        call quad_shape(xiq(:, q), nq, dnq)
+        da = norm2(quad_area_vector(xf, xiq(:, q))) * wq(q)
+        do a = 1, 4
+          do i = 1, 3
+            j = self%u%dof(mesh%face_nodes(a, f), i)
+            if (.not. self%fixed(j)) f_loc(j) = f_loc(j) + lf * nq(a) * self%trac_value(i, t) * da
+          end do
+        end do
+      end do
+    end do
+
+    call self%k%finalize_assembly()
+    call self%u%map%export_add(f_loc)
+    nown = self%u%n_owned()
+    self%rhs = f_loc(1:nown)
+
+    ! prescribed rows: mean diagonal of the free rows, scaled value
+    comm = mesh%comm
+    dsum = 0.0_rp
+    dcount = 0.0_rp
+    do i = 1, nown
+      if (self%fixed(i)) cycle
+      dsum = dsum + self%k%val(self%k%find(i, i))
+      dcount = dcount + 1.0_rp
+    end do
+    dsum = comm%sum(dsum)
+    dcount = comm%sum(dcount)
+    self%diag_scale = 1.0_rp
+    if (dcount > 0.0_rp) self%diag_scale = dsum / dcount
+    do i = 1, nown
+      if (.not. self%fixed(i)) cycle
+      self%k%val(self%k%find(i, i)) = self%diag_scale
+      a = (i - 1) / 3 + 1
+      j = mod(i - 1, 3) + 1
+      self%rhs(i) = self%diag_scale * prescribed(i, mesh%coords(:, a), j)
+    end do
+  contains
+    real(rp) function prescribed(dof, xn, comp)
+      integer(ip), intent(in) :: dof, comp
+      real(rp), intent(in) :: xn(3)
+      real(rp) :: v(3)
+      if (present(dirichlet)) then
+        v = dirichlet%eval(xn)
+        prescribed = v(comp)
+      else
+        prescribed = lf * self%fixed_value(dof)
+      end if
+    end function prescribed
+  end subroutine assemble
+
+  !> Cauchy stress at the centre of each owned cell, from the displacement
+  !> u_loc (all local dofs, ghosts up to date). Components in the XDMF Tensor6
+  !> order xx, xy, xz, yy, yz, zz [Pa].
+  subroutine cell_stress(self, mesh, u_loc, stress)
+    class(elasticity_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: u_loc(:)
+    real(rp), intent(out) :: stress(:,:)
+    real(rp) :: x(3, 8), n(8), g(3, 8), det, grad(3, 3), eps(3, 3), sig(3, 3), ue(3, 8)
+    integer(ip) :: c, a, r
+    do c = 1, mesh%cell_map%n_owned
+      x = mesh%coords(:, mesh%cell_nodes(:, c))
+      call hex_gradients(x, [0.0_rp, 0.0_rp, 0.0_rp], n, g, det)
+      do a = 1, 8
+        ue(:, a) = u_loc(self%u%dof(mesh%cell_nodes(a, c), [1, 2, 3]))
+      end do
+      grad = matmul(ue, transpose(g))          ! grad(i, j) = d u_i / d x_j
+      eps = 0.5_rp * (grad + transpose(grad))
+      r = mesh%cell_region(c)
+      sig = 2.0_rp * self%mu(r) * eps
+      do a = 1, 3
+        sig(a, a) = sig(a, a) + self%lambda(r) * (eps(1,1) + eps(2,2) + eps(3,3))
+      end do
+      stress(:, c) = [sig(1,1), sig(1,2), sig(1,3), sig(2,2), sig(2,3), sig(3,3)]
+    end do
+  end subroutine cell_stress
+
+  subroutine free(self)
+    class(elasticity_t), intent(inout) :: self
+    call self%k%free()
+    call self%u%free()
+    if (allocated(self%rhs)) deallocate(self%rhs)
+    if (allocated(self%lambda)) deallocate(self%lambda, self%mu, self%body)
+    if (allocated(self%fixed)) deallocate(self%fixed, self%fixed_value)
+    if (allocated(self%trac_face)) deallocate(self%trac_face, self%trac_value)
+  end subroutine free
+end module elasticity

@@ -1,0 +1,60 @@
+!> geoblock: coupled poromechanics and fault mechanics on distributed meshes.
+!>
+!> Usage: mpirun -np N geoblock DECK.nml
+!> The deck is a file of namelist groups (see README.md and input/).
+program geoblock
+  use kinds, only: path_len
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use logger, only: logger_t
+  use strings, only: itoa
+  use deck, only: deck_t
+  use run_config, only: run_config_t
+  use elastic_driver, only: run_elasticity
+  implicit none
+
+  type(parallel_comm_t) :: comm
+  type(logger_t) :: log
+  type(deck_t) :: d
+  type(run_config_t) :: run
+  type(error_status_t) :: status
+  character(len=path_len) :: path
+  integer :: ios, estat
+
+  call comm%init_world()
+  call log%init(comm)
+  path = ''
+  if (command_argument_count() >= 1) call get_command_argument(1, path)
+  if (len_trim(path) == 0) call log%fatal(comm, 'usage: geoblock DECK.nml   (see README.md for the deck groups)')
+
+  call d%load(comm, trim(path), status)
+  if (status%ok()) call d%check_groups( &
+    [character(len=16) :: 'run', 'mesh', 'material', 'boundary', 'time', 'solver', 'amg', 'output'], &
+    [character(len=16) :: 'material', 'boundary'], status)
+  if (status%ok()) call run%read(d, log, status)
+  if (.not. status%ok()) call log%fatal(comm, status%msg)
+  log%verbosity = run%verbosity
+
+  ! output directory and log file
+  estat = 0
+  if (comm%is_root()) then
+    call execute_command_line('mkdir -p "'//trim(run%out_dir)//'"', exitstat=estat, cmdstat=ios)
+    if (ios /= 0) estat = ios
+    if (estat == 0) call log%open_file(trim(run%out_dir)//'/'//trim(run%prefix)//'.log', estat)
+  end if
+  if (comm%any_true(estat /= 0)) &
+    call log%fatal(comm, "cannot create the output directory or log file in '"//trim(run%out_dir)//"'")
+
+  call log%info('geoblock: '//trim(run%title))
+  call log%info('deck: '//trim(path)//', ranks: '//itoa(comm%size))
+  call log%detail('deck variables (defaults included):')
+  ! the readers echo their groups; re-read &run so that it reaches the log file
+  call run%read(d, log, status)
+
+  select case (run%physics)
+  case ('elasticity')
+    call run_elasticity(comm, log, d, run)
+  end select
+  call log%close()
+  call comm%finalize()
+end program geoblock

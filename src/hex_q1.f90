@@ -1,0 +1,78 @@
+!> Trilinear (Q1) hexahedron and bilinear quadrilateral shape functions.
+!> Reference cube [-1,1]^3, node order as in mesh.f90 (Gmsh/VTK).
+module hex_q1
+  use kinds, only: rp, ip
+  implicit none
+  private
+
+  public :: hex_shape, hex_gradients, quad_shape, quad_area_vector
+
+  !> Reference coordinates of the 8 nodes.
+  real(rp), parameter :: s(3, 8) = reshape([ &
+    -1, -1, -1,  1, -1, -1,  1, 1, -1,  -1, 1, -1, &
+    -1, -1,  1,  1, -1,  1,  1, 1,  1,  -1, 1,  1], [3, 8])
+
+contains
+
+  !> Shape functions n(8) and their reference derivatives dn(3,8) at xi.
+  pure subroutine hex_shape(xi, n, dn)
+    real(rp), intent(in) :: xi(3)
+    real(rp), intent(out) :: n(8), dn(3, 8)
+    integer :: a
+    real(rp) :: f(3)
+    do a = 1, 8
+      f = 1.0_rp + s(:, a) * xi
+      n(a) = 0.125_rp * f(1) * f(2) * f(3)
+      dn(1, a) = 0.125_rp * s(1, a) * f(2) * f(3)
+      dn(2, a) = 0.125_rp * s(2, a) * f(1) * f(3)
+      dn(3, a) = 0.125_rp * s(3, a) * f(1) * f(2)
+    end do
+  end subroutine hex_shape
+
+  !> Physical gradients g(3,8) of the shape functions at xi for the cell with
+  !> node coordinates x(3,8), and det J. det <= 0 means an inverted cell.
+  pure subroutine hex_gradients(x, xi, n, g, det)
+    real(rp), intent(in) :: x(3, 8), xi(3)
+    real(rp), intent(out) :: n(8), g(3, 8), det
+    real(rp) :: dn(3, 8), j(3, 3), ji(3, 3)
+    call hex_shape(xi, n, dn)
+    j = matmul(dn, transpose(x))      ! j(r, i) = d x_i / d xi_r
+    det = j(1,1)*(j(2,2)*j(3,3)-j(2,3)*j(3,2)) - j(1,2)*(j(2,1)*j(3,3)-j(2,3)*j(3,1)) &
+        + j(1,3)*(j(2,1)*j(3,2)-j(2,2)*j(3,1))
+    ji(1,1) = j(2,2)*j(3,3) - j(2,3)*j(3,2)
+    ji(1,2) = j(1,3)*j(3,2) - j(1,2)*j(3,3)
+    ji(1,3) = j(1,2)*j(2,3) - j(1,3)*j(2,2)
+    ji(2,1) = j(2,3)*j(3,1) - j(2,1)*j(3,3)
+    ji(2,2) = j(1,1)*j(3,3) - j(1,3)*j(3,1)
+    ji(2,3) = j(1,3)*j(2,1) - j(1,1)*j(2,3)
+    ji(3,1) = j(2,1)*j(3,2) - j(2,2)*j(3,1)
+    ji(3,2) = j(1,2)*j(3,1) - j(1,1)*j(3,2)
+    ji(3,3) = j(1,1)*j(2,2) - j(1,2)*j(2,1)
+    ji = ji / det
+    g = matmul(ji, dn)                ! g(i, a) = d n_a / d x_i
+  end subroutine hex_gradients
+
+  !> Bilinear quadrilateral shape functions at xi in [-1,1]^2 (nodes counter-
+  !> clockwise) and their reference derivatives dn(2,4).
+  pure subroutine quad_shape(xi, n, dn)
+    real(rp), intent(in) :: xi(2)
+    real(rp), intent(out) :: n(4), dn(2, 4)
+    real(rp), parameter :: t(2, 4) = reshape([-1, -1, 1, -1, 1, 1, -1, 1], [2, 4])
+    integer :: a
+    do a = 1, 4
+      n(a) = 0.25_rp * (1 + t(1, a) * xi(1)) * (1 + t(2, a) * xi(2))
+      dn(1, a) = 0.25_rp * t(1, a) * (1 + t(2, a) * xi(2))
+      dn(2, a) = 0.25_rp * t(2, a) * (1 + t(1, a) * xi(1))
+    end do
+  end subroutine quad_shape
+
+  !> Area vector (normal times area element) of the quad x(3,4) at xi.
+  pure function quad_area_vector(x, xi) result(v)
+    real(rp), intent(in) :: x(3, 4), xi(2)
+    real(rp) :: v(3), n(4), dn(2, 4), a(3), b(3)
+    call quad_shape(xi, n, dn)
+    a = matmul(x, dn(1, :))
+    b = matmul(x, dn(2, :))
+    v = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+  end function quad_area_vector
+end module hex_q1

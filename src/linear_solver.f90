@@ -1,0 +1,153 @@
+!> The linear solver of a run, built by name from &solver and &amg: a Krylov
+!> method (fgmres, cg) with a preconditioner (boomeramg, jacobi, none), or the
+!> direct solver MUMPS (method = 'mumps').
+module linear_solver
+  use kinds, only: rp, ip, name_len, msg_len
+  use parallel_comm, only: parallel_comm_t, wall_time
+  use error_status, only: error_status_t
+  use csr_matrix, only: csr_matrix_t
+  use dist_vector, only: pnorm2
+  use krylov, only: krylov_t, solve_info_t
+  use precon, only: precon_t, identity_precon_t
+  use fgmres, only: fgmres_t
+  use cg, only: cg_t
+  use jacobi_precon, only: jacobi_precon_t
+  use boomeramg_precon, only: boomeramg_precon_t
+  use amg_params, only: amg_params_t
+  use mumps_solver, only: mumps_solver_t
+  use solver_config, only: solver_config_t
+  implicit none
+  private
+
+  public :: linear_solver_t
+
+  type :: linear_solver_t
+    type(solver_config_t) :: cfg
+    type(amg_params_t) :: amg
+    class(krylov_t), allocatable :: krylov
+    class(precon_t), allocatable :: precon
+    logical :: direct = .false.
+  contains
+    procedure :: init
+    procedure :: setup
+    procedure :: solve
+    procedure :: describe
+    procedure :: free
+  end type linear_solver_t
+
+contains
+
+  !> Choose the methods; nothing is built yet.
+  subroutine init(self, comm, cfg, amg, status)
+    class(linear_solver_t), intent(inout) :: self
+    type(parallel_comm_t), intent(in) :: comm
+    type(solver_config_t), intent(in) :: cfg
+    type(amg_params_t), intent(in) :: amg
+    type(error_status_t), intent(inout) :: status
+    call self%free()
+    self%cfg = cfg
+    self%amg = amg
+    self%direct = cfg%method == 'mumps'
+    select case (cfg%method)
+    case ('fgmres')
+      allocate(fgmres_t :: self%krylov)
+      select type (k => self%krylov)
+      type is (fgmres_t)
+        call k%init(comm, cfg%rtol, cfg%atol, cfg%max_iter, cfg%restart, status)
+      end select
+    case ('cg')
+      allocate(cg_t :: self%krylov)
+      select type (k => self%krylov)
+      type is (cg_t)
+        call k%init(comm, cfg%rtol, cfg%atol, cfg%max_iter, status)
+      end select
+    case ('mumps')
+      allocate(mumps_solver_t :: self%precon)
+      return
+    case default
+      call status%set("linear solver: unknown method '"//trim(cfg%method)//"' (valid: fgmres, cg, mumps)")
+      return
+    end select
+    select case (cfg%precon)
+    case ('boomeramg')
+      allocate(boomeramg_precon_t :: self%precon)
+    case ('jacobi')
+      allocate(jacobi_precon_t :: self%precon)
+    case ('none')
+      allocate(identity_precon_t :: self%precon)
+    case default
+      call status%set("linear solver: unknown preconditioner '"//trim(cfg%precon)// &
+                      "' (valid: boomeramg, jacobi, none)")
+    end select
+  end subroutine init
+
+  !> Build the preconditioner (or factorize) for matrix a. Collective.
+  subroutine setup(self, a, status, symmetric)
+    class(linear_solver_t), intent(inout) :: self
+    type(csr_matrix_t), intent(inout) :: a
+    type(error_status_t), intent(inout) :: status
+    logical, intent(in), optional :: symmetric
+    real(rp) :: t0
+    t0 = wall_time()
+    select type (m => self%precon)
+    type is (boomeramg_precon_t)
+      call m%setup(a, self%amg, status)
+    type is (jacobi_precon_t)
+      call m%setup(a, status)
+    type is (mumps_solver_t)
+      call m%setup(a, status, symmetric)
+    class default
+    end select
+    self%precon%setup_time = wall_time() - t0
+  end subroutine setup
+
+  !> Solve a x = b; x holds the initial guess. info reports the true residual.
+  subroutine solve(self, a, b, x, info)
+    class(linear_solver_t), intent(inout) :: self
+    type(csr_matrix_t), intent(inout) :: a
+    real(rp), intent(in) :: b(:)
+    real(rp), intent(inout) :: x(:)
+    type(solve_info_t), intent(out) :: info
+    real(rp), allocatable :: r(:)
+    real(rp) :: t0, bnorm
+    type(parallel_comm_t) :: comm
+    if (self%direct) then
+      comm = a%row_map%comm
+      t0 = wall_time()
+      call self%precon%apply(b, x)
+      allocate(r(size(b)))
+      call a%apply(x, r)
+      r = b - r
+      bnorm = pnorm2(comm, b)
+      info%iterations = 0
+      info%res0 = bnorm
+      info%rel_res = pnorm2(comm, r) / max(bnorm, tiny(1.0_rp))
+      info%converged = info%rel_res <= max(self%cfg%rtol, 1.0e-10_rp) .or. bnorm == 0.0_rp
+      if (.not. info%converged) write(info%msg, '(a,es10.3)') &
+        'the direct solve left a relative residual of ', info%rel_res
+      info%solve_time = wall_time() - t0
+    else
+      call self%krylov%solve(a, self%precon, b, x, info)
+    end if
+  end subroutine solve
+
+  !> One line naming the solver, for the log.
+  function describe(self) result(s)
+    class(linear_solver_t), intent(in) :: self
+    character(len=:), allocatable :: s
+    if (self%direct) then
+      s = 'MUMPS direct solver'
+    else
+      s = trim(self%krylov%name())//' + '//trim(self%precon%name())
+    end if
+  end function describe
+
+  subroutine free(self)
+    class(linear_solver_t), intent(inout) :: self
+    if (allocated(self%precon)) then
+      call self%precon%free()
+      deallocate(self%precon)
+    end if
+    if (allocated(self%krylov)) deallocate(self%krylov)
+  end subroutine free
+end module linear_solver

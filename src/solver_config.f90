@@ -1,0 +1,83 @@
+!> Deck group &solver: the linear solver of each step.
+!>
+!>   method    'fgmres' (flexible GMRES, right preconditioned), 'cg' (for SPD
+!>             systems with an SPD preconditioner) or 'mumps' (direct)     ['fgmres']
+!>   precon    'boomeramg' (settings in &amg), 'jacobi' or 'none'         ['boomeramg']
+!>   rtol      relative residual tolerance, 0 < rtol < 1                 [1e-8]
+!>   atol      absolute residual tolerance, >= 0                         [0]
+!>   max_iter  iteration cap, >= 1                                        [1000]
+!>   restart   FGMRES restart length, >= 1                                [100]
+!>   fail_on_no_convergence  stop the run when a solve does not converge  [.true.]
+module solver_config
+  use kinds, only: rp, name_len, msg_len
+  use error_status, only: error_status_t
+  use logger, only: logger_t
+  use deck, only: deck_t, line_len, echo_len
+  use strings, only: itoa, rtoa
+  implicit none
+  private
+
+  public :: solver_config_t
+
+  type :: solver_config_t
+    character(len=name_len) :: method = 'fgmres'
+    character(len=name_len) :: precon = 'boomeramg'
+    real(rp) :: rtol = 1.0e-8_rp
+    real(rp) :: atol = 0.0_rp
+    integer :: max_iter = 1000
+    integer :: restart = 100
+    logical :: fail_on_no_convergence = .true.
+  contains
+    procedure :: read => read_solver_config
+  end type solver_config_t
+
+contains
+
+  !> Read and check &solver (optional group).
+  subroutine read_solver_config(self, d, log, status)
+    class(solver_config_t), intent(inout) :: self
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(in) :: log
+    type(error_status_t), intent(inout) :: status
+    character(len=name_len) :: method, precon
+    real(rp) :: rtol, atol
+    integer :: max_iter, restart, ios
+    logical :: fail_on_no_convergence
+    character(len=msg_len) :: msg
+    character(len=line_len), allocatable :: b(:)
+    character(len=echo_len) :: echo(16)
+    namelist /solver/ method, precon, rtol, atol, max_iter, restart, fail_on_no_convergence
+
+    method = self%method; precon = self%precon; rtol = self%rtol; atol = self%atol
+    max_iter = self%max_iter; restart = self%restart; fail_on_no_convergence = self%fail_on_no_convergence
+    if (d%count('solver') > 0) then
+      call d%block('solver', 1, b)
+      read(b, nml=solver, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call d%read_error('solver', 1, ios, msg, status)
+        return
+      end if
+    end if
+    if (method /= 'fgmres' .and. method /= 'cg' .and. method /= 'mumps') &
+      call d%fail(status, 'solver', 1, 'method', "must be one of 'fgmres', 'cg', 'mumps' (got '"//trim(method)//"')")
+    if (precon /= 'boomeramg' .and. precon /= 'jacobi' .and. precon /= 'none') &
+      call d%fail(status, 'solver', 1, 'precon', "must be one of 'boomeramg', 'jacobi', 'none' (got '"// &
+                  trim(precon)//"')")
+    if (.not. (rtol > 0.0_rp .and. rtol < 1.0_rp)) &
+      call d%fail(status, 'solver', 1, 'rtol', 'must lie in (0, 1) (got '//rtoa(rtol)//')')
+    if (.not. (atol >= 0.0_rp)) call d%fail(status, 'solver', 1, 'atol', 'must be >= 0 (got '//rtoa(atol)//')')
+    if (max_iter < 1) call d%fail(status, 'solver', 1, 'max_iter', 'must be at least 1 (got '//itoa(max_iter)//')')
+    if (restart < 1) call d%fail(status, 'solver', 1, 'restart', 'must be at least 1 (got '//itoa(restart)//')')
+    if (.not. status%ok()) return
+    self%method = method
+    self%precon = precon
+    self%rtol = rtol
+    self%atol = atol
+    self%max_iter = max_iter
+    self%restart = restart
+    self%fail_on_no_convergence = fail_on_no_convergence
+    echo = ''
+    write(echo, nml=solver, iostat=ios)
+    call d%echo(log, echo)
+  end subroutine read_solver_config
+end module solver_config

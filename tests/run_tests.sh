@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Run every suite listed in tests/suites.txt and end with "N passed, N failed".
+# A line is "<ranks> <program> [args]" for a test program in bin/tests, or
+# "script <path>" for a shell suite. Each suite prints "suite NAME: N passed, N failed";
+# a suite that crashes or hangs (timeout) counts as one failure.
+set -u
+cd "$(dirname "$0")/.."
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+logdir=build/test-logs
+mkdir -p "$logdir"
+total_pass=0
+total_fail=0
+start=$(date +%s)
+while read -r np prog args; do
+  [ -z "${np:-}" ] && continue
+  case "$np" in \#*) continue ;; esac
+  if [ "$np" = "script" ]; then
+    name=$(basename "$prog" .sh)
+    log="$logdir/$name.log"
+    timeout 900 bash "$prog" $args > "$log" 2>&1
+    rc=$?
+  else
+    name="$prog-np$np"
+    log="$logdir/$name.log"
+    timeout 600 mpirun --oversubscribe -np "$np" "bin/tests/$prog" $args > "$log" 2>&1
+    rc=$?
+  fi
+  line=$(grep -E '^suite .*: [0-9]+ passed, [0-9]+ failed' "$log" | tail -n 1)
+  if [ -n "$line" ]; then
+    p=$(echo "$line" | sed -E 's/.*: ([0-9]+) passed, ([0-9]+) failed.*/\1/')
+    f=$(echo "$line" | sed -E 's/.*: ([0-9]+) passed, ([0-9]+) failed.*/\2/')
+    if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then f=1; fi
+  else
+    p=0; f=1
+    line="suite $name: crashed or timed out (exit $rc), see $log"
+  fi
+  grep -E '^  FAIL' "$log" | sed "s/^/[$name]/"
+  printf '%-40s %s\n' "$name" "${line#suite *: }"
+  total_pass=$((total_pass + p))
+  total_fail=$((total_fail + f))
+done < tests/suites.txt
+echo "test time: $(( $(date +%s) - start )) s"
+echo "$total_pass passed, $total_fail failed"
+[ "$total_fail" -eq 0 ]
