@@ -305,8 +305,9 @@ contains
           return
         end if
       end if
+      if (tok(1:1) /= "'" .and. tok(1:1) /= '"') tok = "'"//tok//"'"
       write(m, '(a)') trim(where)//"): variable '"//trim(last_name(text(1:p-1)))// &
-        "' has a value of the wrong type or form: '"//tok//"'"
+        "' has a value of the wrong type or form: "//tok
       call status%set(m)
       return
     end if

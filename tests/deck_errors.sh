@@ -9,7 +9,7 @@ exe=bin/geoblock
 pass=0; fail=0
 check() {  # name, ranks, deck, expected text
   local name=$1 np=$2 deck=$3 expect=$4 out rc
-  out=$(timeout 120 mpirun --oversubscribe -np "$np" "$exe" "$deck" 2>&1)
+  out=$(timeout 120 mpirun --oversubscribe -np "$np" "$exe" "$deck" 2>&1 < /dev/null)
   rc=$?
   if [ "$rc" -eq 124 ]; then
     echo "  FAIL  $name: hung (timeout)"; fail=$((fail + 1)); return

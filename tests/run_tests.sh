@@ -17,12 +17,12 @@ while read -r np prog args; do
   if [ "$np" = "script" ]; then
     name=$(basename "$prog" .sh)
     log="$logdir/$name.log"
-    timeout 900 bash "$prog" $args > "$log" 2>&1
+    timeout 900 bash "$prog" $args > "$log" 2>&1 < /dev/null
     rc=$?
   else
     name="$prog-np$np"
     log="$logdir/$name.log"
-    timeout 600 mpirun --oversubscribe -np "$np" "bin/tests/$prog" $args > "$log" 2>&1
+    timeout 600 mpirun --oversubscribe -np "$np" "bin/tests/$prog" $args > "$log" 2>&1 < /dev/null
     rc=$?
   fi
   line=$(grep -E '^suite .*: [0-9]+ passed, [0-9]+ failed' "$log" | tail -n 1)

@@ -1,0 +1,311 @@
+!> Fortran-friendly owner of one hypre IJ/ParCSR copy of a square
+!> csr_matrix_t and of two IJ vectors (b: right-hand side, x: solution).
+!>
+!> hypre numbers rows and columns from 0; geoblock from 1. The owned rows of
+!> this rank are the contiguous global ids A%row_map%first..first+n_rows-1, so
+!> the hypre range is [first-1, first+n_rows-2]. The 0-based global ids of the
+!> rows and of every column entry (CSR order) are computed once in init() and
+!> reused by update_values(), set_rhs() and get_x().
+!>
+!> A hypre_ij_t holds C handles: never copy one by assignment (the copy would
+!> share, and might free twice, the handles); call free() when done.
+module hypre_ij
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_char, c_null_char
+  use kinds, only: rp, ip, gp, hypre_int, hypre_bigint, hypre_real, msg_len
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use csr_matrix, only: csr_matrix_t
+  use hypre_c, only: HYPRE_PARCSR, HYPRE_ClearAllErrors, HYPRE_GetError, HYPRE_DescribeError, &
+    HYPRE_IJMatrixCreate, HYPRE_IJMatrixDestroy, HYPRE_IJMatrixSetObjectType, &
+    HYPRE_IJMatrixSetDiagOffdSizes, HYPRE_IJMatrixInitialize, HYPRE_IJMatrixSetValues, &
+    HYPRE_IJMatrixAssemble, HYPRE_IJMatrixGetObject, &
+    HYPRE_IJVectorCreate, HYPRE_IJVectorDestroy, HYPRE_IJVectorSetObjectType, &
+    HYPRE_IJVectorInitialize, HYPRE_IJVectorSetValues, HYPRE_IJVectorAssemble, &
+    HYPRE_IJVectorGetValues, HYPRE_IJVectorGetObject, &
+    HYPRE_ParVectorSetConstantValues, HYPRE_ParCSRMatrixMatvec
+  implicit none
+  private
+
+  public :: hypre_ij_t, hypre_error_text, hypre_check
+
+  !> hypre copy of one square distributed matrix, with work vectors b and x.
+  type :: hypre_ij_t
+    type(parallel_comm_t) :: comm
+    type(c_ptr) :: ij_a = c_null_ptr            !< HYPRE_IJMatrix (owned here)
+    type(c_ptr) :: par_a = c_null_ptr           !< its HYPRE_ParCSRMatrix (owned by ij_a)
+    type(c_ptr) :: ij_b = c_null_ptr            !< HYPRE_IJVector b (owned here)
+    type(c_ptr) :: par_b = c_null_ptr           !< its HYPRE_ParVector
+    type(c_ptr) :: ij_x = c_null_ptr            !< HYPRE_IJVector x (owned here)
+    type(c_ptr) :: par_x = c_null_ptr           !< its HYPRE_ParVector
+    integer(ip) :: n_rows = 0                   !< owned rows
+    integer(ip) :: nnz = 0                      !< owned entries
+    integer(hypre_bigint) :: ilower = 0         !< first owned row, 0-based
+    integer(hypre_bigint) :: iupper = -1        !< last owned row, 0-based
+    integer(hypre_bigint), allocatable :: rows(:)   !< (n_rows) 0-based global row ids
+    integer(hypre_int), allocatable :: ncols(:)     !< (n_rows) entries per row
+    integer(hypre_bigint), allocatable :: cols(:)   !< (nnz) 0-based global column ids, CSR order
+  contains
+    procedure :: init
+    procedure :: is_ready
+    procedure :: update_values
+    procedure :: set_rhs
+    procedure :: zero_x
+    procedure :: get_x
+    procedure :: matvec
+    procedure :: free
+  end type hypre_ij_t
+
+contains
+
+  !> Build the IJ/ParCSR copy of the square matrix a (rows and columns owned
+  !> alike) and the vectors b and x (zero). Collective over a's communicator.
+  !> status reports, on every rank alike: a matrix without a pattern, a
+  !> non-square matrix or different row and column ownership, global ids
+  !> beyond HYPRE_BigInt, or a hypre failure.
+  subroutine init(self, a, status)
+    class(hypre_ij_t), intent(inout) :: self
+    type(csr_matrix_t), intent(in) :: a
+    type(error_status_t), intent(inout) :: status
+    integer(hypre_int), allocatable :: diag_sizes(:), offd_sizes(:)
+    integer(hypre_int) :: ierr
+    integer(gp) :: g
+    integer(ip) :: i, k
+    logical :: bad
+    character(len=msg_len) :: msg
+
+    call self%free()
+    if (.not. associated(a%row_map) .or. .not. associated(a%col_map) .or. &
+        .not. allocated(a%row_ptr)) then
+      call status%set('hypre_ij%init: the matrix has no pattern (csr_matrix%init not called)')
+      return
+    end if
+    self%comm = a%row_map%comm
+
+    ! global ids must fit HYPRE_BigInt once shifted to 0-based (same on every rank)
+    if (a%row_map%n_global - 1 > int(huge(0_hypre_bigint), gp)) then
+      write(msg, '(a,i0,a,i0,a)') 'hypre_ij%init: ', a%row_map%n_global, &
+        ' global rows do not fit hypre''s HYPRE_BigInt (at most ', &
+        int(huge(0_hypre_bigint), gp) + 1, '); hypre would need --enable-bigint'
+      call status%set(msg)
+      return
+    end if
+    bad = a%col_map%n_global /= a%row_map%n_global .or. a%col_map%first /= a%row_map%first &
+          .or. a%col_map%n_owned /= a%row_map%n_owned .or. a%n_rows /= a%row_map%n_owned
+    if (self%comm%any_true(bad)) then
+      if (bad) then
+        write(msg, '(a,i0,a,i0,a,i0,a,i0,a,i0)') 'hypre_ij%init: the matrix is not square with '// &
+          'rows and columns owned alike on rank ', self%comm%rank, ': rows ', a%row_map%first, &
+          '+', a%row_map%n_owned, ', columns ', a%col_map%first, '+', a%col_map%n_owned
+      else
+        msg = 'hypre_ij%init: the matrix is not square with rows and columns owned alike on some rank'
+      end if
+      call status%set(msg)
+      return
+    end if
+
+    self%n_rows = a%n_rows
+    self%nnz = a%nnz()
+    self%ilower = int(a%row_map%first - 1, hypre_bigint)
+    self%iupper = int(a%row_map%first - 1 + a%n_rows - 1, hypre_bigint)
+    allocate(self%rows(self%n_rows), self%ncols(self%n_rows), self%cols(self%nnz))
+    allocate(diag_sizes(self%n_rows), offd_sizes(self%n_rows))
+    do i = 1, self%n_rows
+      self%rows(i) = self%ilower + int(i - 1, hypre_bigint)
+      self%ncols(i) = int(a%row_ptr(i+1) - a%row_ptr(i), hypre_int)
+      diag_sizes(i) = 0
+      offd_sizes(i) = 0
+      do k = a%row_ptr(i), a%row_ptr(i+1) - 1
+        g = a%col_map%global_id(a%col(k)) - 1
+        self%cols(k) = int(g, hypre_bigint)
+        if (g >= self%ilower .and. g <= self%iupper) then
+          diag_sizes(i) = diag_sizes(i) + 1
+        else
+          offd_sizes(i) = offd_sizes(i) + 1
+        end if
+      end do
+    end do
+
+    ierr = HYPRE_ClearAllErrors()
+    ierr = HYPRE_IJMatrixCreate(self%comm%c_handle(), self%ilower, self%iupper, &
+                                self%ilower, self%iupper, self%ij_a)
+    ierr = HYPRE_IJMatrixSetObjectType(self%ij_a, HYPRE_PARCSR)
+    ! exact sizes let hypre allocate the diag and offd blocks once
+    if (self%n_rows > 0) ierr = HYPRE_IJMatrixSetDiagOffdSizes(self%ij_a, diag_sizes, offd_sizes)
+    ierr = HYPRE_IJMatrixInitialize(self%ij_a)
+    if (self%n_rows > 0) ierr = HYPRE_IJMatrixSetValues(self%ij_a, int(self%n_rows, hypre_int), &
+                                                       self%ncols, self%rows, self%cols, a%val)
+    ierr = HYPRE_IJMatrixAssemble(self%ij_a)
+    ierr = HYPRE_IJMatrixGetObject(self%ij_a, self%par_a)
+    call create_vector(self, self%ij_b, self%par_b)
+    call create_vector(self, self%ij_x, self%par_x)
+    ! hypre's error flag is global and sticky: one look covers the whole sequence
+    call hypre_check(self%comm, HYPRE_GetError(), 'hypre_ij%init: building the IJ matrix and vectors', &
+                     status)
+  end subroutine init
+
+  !> One IJ vector over the owned rows, assembled with zeros.
+  subroutine create_vector(self, ij, par)
+    type(hypre_ij_t), intent(in) :: self
+    type(c_ptr), intent(out) :: ij, par
+    integer(hypre_int) :: ierr
+    ierr = HYPRE_IJVectorCreate(self%comm%c_handle(), self%ilower, self%iupper, ij)
+    ierr = HYPRE_IJVectorSetObjectType(ij, HYPRE_PARCSR)
+    ierr = HYPRE_IJVectorInitialize(ij)
+    ierr = HYPRE_IJVectorAssemble(ij)
+    ierr = HYPRE_IJVectorGetObject(ij, par)
+  end subroutine create_vector
+
+  !> True once init() has built the hypre objects.
+  logical function is_ready(self)
+    class(hypre_ij_t), intent(in) :: self
+    is_ready = c_associated(self%ij_a)
+  end function is_ready
+
+  !> Copy new values of a matrix whose pattern (rows, global columns, entry
+  !> order) is the one given to init(). Collective; status reports a changed
+  !> pattern (on every rank alike) or a hypre failure.
+  subroutine update_values(self, a, status)
+    class(hypre_ij_t), intent(inout) :: self
+    type(csr_matrix_t), intent(in) :: a
+    type(error_status_t), intent(inout) :: status
+    integer(hypre_int) :: ierr
+    integer(ip) :: i, k
+    logical :: bad
+
+    if (.not. self%is_ready()) then
+      call status%set('hypre_ij%update_values: init() was not called')
+      return
+    end if
+    bad = .not. associated(a%col_map) .or. .not. allocated(a%row_ptr)
+    if (.not. bad) bad = a%n_rows /= self%n_rows
+    if (.not. bad) bad = a%nnz() /= self%nnz
+    if (.not. bad) then
+      do i = 1, self%n_rows
+        if (a%row_ptr(i+1) - a%row_ptr(i) /= self%ncols(i)) bad = .true.
+        do k = a%row_ptr(i), a%row_ptr(i+1) - 1
+          if (a%col_map%global_id(a%col(k)) - 1 /= int(self%cols(k), gp)) bad = .true.
+        end do
+        if (bad) exit
+      end do
+    end if
+    if (self%comm%any_true(bad)) then
+      call status%set('hypre_ij%update_values: the matrix pattern differs from the one given '// &
+                      'to init(); call init() again')
+      return
+    end if
+
+    ierr = HYPRE_ClearAllErrors()
+    ! Initialize re-opens the assembled matrix; values go into the existing pattern
+    ierr = HYPRE_IJMatrixInitialize(self%ij_a)
+    if (self%n_rows > 0) ierr = HYPRE_IJMatrixSetValues(self%ij_a, int(self%n_rows, hypre_int), &
+                                                       self%ncols, self%rows, self%cols, a%val)
+    ierr = HYPRE_IJMatrixAssemble(self%ij_a)
+    ierr = HYPRE_IJMatrixGetObject(self%ij_a, self%par_a)
+    call hypre_check(self%comm, HYPRE_GetError(), 'hypre_ij%update_values', status)
+  end subroutine update_values
+
+  !> b = r (owned entries). Collective. ierr: hypre's error flag after the
+  !> call (global and sticky: it also holds errors not cleared before).
+  subroutine set_rhs(self, r, ierr)
+    class(hypre_ij_t), intent(inout) :: self
+    real(rp), intent(in) :: r(:)
+    integer(hypre_int), intent(out), optional :: ierr
+    integer(hypre_int) :: e
+    if (size(r) < self%n_rows) error stop 'hypre_ij%set_rhs: r is shorter than the owned rows'
+    e = HYPRE_IJVectorInitialize(self%ij_b)
+    if (self%n_rows > 0) e = HYPRE_IJVectorSetValues(self%ij_b, int(self%n_rows, hypre_int), &
+                                                    self%rows, r)
+    e = HYPRE_IJVectorAssemble(self%ij_b)
+    if (present(ierr)) ierr = HYPRE_GetError()
+  end subroutine set_rhs
+
+  !> x = 0 (the initial guess of a preconditioner application). Not
+  !> collective. ierr as for set_rhs.
+  subroutine zero_x(self, ierr)
+    class(hypre_ij_t), intent(inout) :: self
+    integer(hypre_int), intent(out), optional :: ierr
+    integer(hypre_int) :: e
+    e = HYPRE_ParVectorSetConstantValues(self%par_x, 0.0_hypre_real)
+    if (present(ierr)) ierr = HYPRE_GetError()
+  end subroutine zero_x
+
+  !> z = x (owned entries). Not collective. ierr as for set_rhs.
+  subroutine get_x(self, z, ierr)
+    class(hypre_ij_t), intent(inout) :: self
+    real(rp), intent(out) :: z(:)
+    integer(hypre_int), intent(out), optional :: ierr
+    integer(hypre_int) :: e
+    if (size(z) < self%n_rows) error stop 'hypre_ij%get_x: z is shorter than the owned rows'
+    if (self%n_rows > 0) e = HYPRE_IJVectorGetValues(self%ij_x, int(self%n_rows, hypre_int), &
+                                                    self%rows, z)
+    if (present(ierr)) ierr = HYPRE_GetError()
+  end subroutine get_x
+
+  !> y = A x with hypre's ParCSR product (through b and x, which it
+  !> overwrites). Collective. ierr as for set_rhs.
+  subroutine matvec(self, x, y, ierr)
+    class(hypre_ij_t), intent(inout) :: self
+    real(rp), intent(in) :: x(:)
+    real(rp), intent(out) :: y(:)
+    integer(hypre_int), intent(out), optional :: ierr
+    integer(hypre_int) :: e
+    call self%set_rhs(x)
+    e = HYPRE_ParCSRMatrixMatvec(1.0_hypre_real, self%par_a, self%par_b, 0.0_hypre_real, self%par_x)
+    call self%get_x(y, ierr)
+  end subroutine matvec
+
+  !> Destroy the hypre objects and forget the index arrays.
+  subroutine free(self)
+    class(hypre_ij_t), intent(inout) :: self
+    integer(hypre_int) :: ierr
+    ! destroying an IJ object also destroys the ParCSR object it built
+    if (c_associated(self%ij_a)) ierr = HYPRE_IJMatrixDestroy(self%ij_a)
+    if (c_associated(self%ij_b)) ierr = HYPRE_IJVectorDestroy(self%ij_b)
+    if (c_associated(self%ij_x)) ierr = HYPRE_IJVectorDestroy(self%ij_x)
+    self%ij_a = c_null_ptr
+    self%par_a = c_null_ptr
+    self%ij_b = c_null_ptr
+    self%par_b = c_null_ptr
+    self%ij_x = c_null_ptr
+    self%par_x = c_null_ptr
+    if (allocated(self%rows)) deallocate(self%rows)
+    if (allocated(self%ncols)) deallocate(self%ncols)
+    if (allocated(self%cols)) deallocate(self%cols)
+    self%n_rows = 0
+    self%nnz = 0
+    self%ilower = 0
+    self%iupper = -1
+  end subroutine free
+
+  !> hypre's description of an error flag ierr.
+  function hypre_error_text(ierr) result(text)
+    integer(hypre_int), intent(in) :: ierr
+    character(len=:), allocatable :: text
+    character(kind=c_char) :: buf(1024)
+    integer :: n
+    buf = c_null_char
+    call HYPRE_DescribeError(ierr, buf)
+    n = 0
+    do while (n < size(buf))
+      if (buf(n+1) == c_null_char) exit
+      n = n + 1
+    end do
+    allocate(character(len=n) :: text)
+    text = transfer(buf(1:n), text)
+  end function hypre_error_text
+
+  !> Combine hypre's error flag ierr over the ranks of comm: when it is
+  !> nonzero anywhere, status gets "what: <hypre's description>" on every rank.
+  !> Collective.
+  subroutine hypre_check(comm, ierr, what, status)
+    type(parallel_comm_t), intent(in) :: comm
+    integer(hypre_int), intent(in) :: ierr
+    character(len=*), intent(in) :: what
+    type(error_status_t), intent(inout) :: status
+    integer(ip) :: worst
+    worst = comm%max(int(ierr, ip))
+    if (worst /= 0) then
+      call status%set(trim(what)//': hypre error '//hypre_error_text(int(worst, hypre_int)))
+    end if
+  end subroutine hypre_check
+end module hypre_ij

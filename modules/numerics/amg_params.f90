@@ -1,0 +1,277 @@
+!> Settings of the BoomerAMG preconditioner, with defaults for 3D Q1
+!> elasticity (displacement dofs interleaved node by node, 3 per node).
+!>
+!> Choices are names (as in the deck); the hypre ids are looked up here, in
+!> one place, from the comments of HYPRE_parcsr_ls.h of hypre 2.26:
+!>   coarsen_type    : cljp 0, ruge-stueben 3 (with the boundary third pass),
+!>                     falgout 6, pmis 8, hmis 10
+!>   interp_type     : classical 0, direct 3, multipass 4, ext+i 6, standard 8,
+!>                     ff1 13, ext 14, ext-mm 16, ext+i-mm 17, ext+e-mm 18
+!>   agg_interp_type : 2s-ext+i 1, 2s-standard 2, 2s-ext 3, multipass 4,
+!>                     2s-ext-mm 5, 2s-ext+i-mm 6, 2s-ext+e-mm 7
+!>   relax_type      : down/up smoother of the V-cycle
+!>                     jacobi 0/0, hybrid-gs 3/4 (forward down, backward up),
+!>                     hybrid-sgs 6/6, l1-sgs 8/8, l1-gs 13/14, chebyshev 16/16,
+!>                     l1-jacobi 18/18; the coarsest level is always solved
+!>                     by Gaussian elimination (9). Every pair is symmetric, so
+!>                     the V-cycle is a symmetric preconditioner fit for PCG.
+!>   nodal           : 0 unknown approach (coarsen each function alone);
+!>                     1 Frobenius, 2 sum of |a|, 3 largest entry, 4 row sum,
+!>                     6 sum of entries of each nodal block
+!>
+!> Defaults and why:
+!>   num_functions 3, nodal 0  : the "unknown approach" for elasticity; each
+!>                               displacement component is coarsened on its own.
+!>   hmis + ext+i, p_max_elmts 4, one aggressive level (multipass): hypre's
+!>                               recommended low-complexity 3D set-up.
+!>   strong_threshold 0.8      : the hypre manual suggests 0.5-0.6 for 3D Laplace
+!>                               and "a large strength threshold, such as 0.9"
+!>                               for elasticity. On Q1 elasticity cubes of 15k
+!>                               and 108k unknowns (PCG to 1e-8) the default
+!>                               0.25 needed 25-30% more iterations than 0.8,
+!>                               and 0.9 was no better than 0.8 while
+!>                               coarsening more slowly.
+!>   l1-gs, 1 sweep            : hypre's default smoother, robust in parallel.
+module amg_params
+  use kinds, only: rp, name_len
+  use error_status, only: error_status_t
+  implicit none
+  private
+
+  public :: amg_params_t, amg_line_len
+
+  !> Length of the lines returned by to_lines().
+  integer, parameter :: amg_line_len = 96
+
+  !> The BoomerAMG settings; see the module header for the names and ids.
+  type :: amg_params_t
+    integer :: num_functions = 3                      !< unknowns per node (systems AMG)
+    integer :: nodal = 0                              !< 0 unknown approach; 1-4, 6 nodal norms
+    character(len=name_len) :: coarsen_type = 'hmis'
+    character(len=name_len) :: interp_type = 'ext+i'
+    integer :: p_max_elmts = 4                        !< interpolation entries per row (0: all)
+    real(rp) :: trunc_factor = 0.0_rp                 !< interpolation truncation factor
+    integer :: agg_num_levels = 1                     !< levels of aggressive coarsening
+    character(len=name_len) :: agg_interp_type = 'multipass'
+    integer :: agg_p_max_elmts = 0                    !< entries per row, aggressive levels (0: all)
+    integer :: num_paths = 1                          !< paths of aggressive coarsening
+    real(rp) :: strong_threshold = 0.8_rp             !< strength of connection
+    real(rp) :: max_row_sum = 0.9_rp                  !< weakens diagonally dominant rows (1: off)
+    integer :: max_levels = 25
+    integer :: max_coarse_size = 9                    !< rows of the coarsest level
+    character(len=name_len) :: relax_type = 'l1-gs'
+    integer :: num_sweeps = 1                         !< smoothing sweeps down and up
+    real(rp) :: relax_wt = 1.0_rp                     !< weight of Jacobi / SOR smoothers
+    integer :: print_level = 0                        !< hypre's own output: 0 none .. 3
+  contains
+    procedure :: validate
+    procedure :: to_lines
+    procedure :: coarsen_id
+    procedure :: interp_id
+    procedure :: agg_interp_id
+    procedure :: relax_ids
+  end type amg_params_t
+
+  character(len=*), parameter :: coarsen_names = 'cljp, ruge-stueben, falgout, pmis, hmis'
+  character(len=*), parameter :: interp_names = &
+    'classical, direct, multipass, ext+i, standard, ff1, ext, ext-mm, ext+i-mm, ext+e-mm'
+  character(len=*), parameter :: agg_interp_names = &
+    '2s-ext+i, 2s-standard, 2s-ext, multipass, 2s-ext-mm, 2s-ext+i-mm, 2s-ext+e-mm'
+  character(len=*), parameter :: relax_names = &
+    'jacobi, hybrid-gs, hybrid-sgs, l1-sgs, l1-gs, chebyshev, l1-jacobi'
+
+contains
+
+  !> Range-check every field; the first bad one is reported in status by
+  !> name, value and accepted range. Not collective.
+  subroutine validate(self, status)
+    class(amg_params_t), intent(in) :: self
+    type(error_status_t), intent(inout) :: status
+    integer :: down, up
+
+    if (self%num_functions < 1 .or. self%num_functions > 64) then
+      call bad_int('num_functions', self%num_functions, 'an integer in 1..64')
+    else if (all(self%nodal /= [0, 1, 2, 3, 4, 6])) then
+      call bad_int('nodal', self%nodal, 'one of 0 (unknown approach), 1, 2, 3, 4, 6 (nodal norms)')
+    else if (self%nodal > 0 .and. self%num_functions == 1) then
+      call bad_int('nodal', self%nodal, '0 when num_functions = 1 (nodal coarsening needs systems)')
+    else if (self%coarsen_id() < 0) then
+      call bad_name('coarsen_type', self%coarsen_type, coarsen_names)
+    else if (self%interp_id() < 0) then
+      call bad_name('interp_type', self%interp_type, interp_names)
+    else if (self%p_max_elmts < 0 .or. self%p_max_elmts > 100) then
+      call bad_int('p_max_elmts', self%p_max_elmts, 'an integer in 0..100 (0: no limit)')
+    else if (.not. (self%trunc_factor >= 0.0_rp .and. self%trunc_factor < 1.0_rp)) then
+      call bad_real('trunc_factor', self%trunc_factor, 'a real in [0, 1)')
+    else if (self%max_levels < 1 .or. self%max_levels > 100) then
+      call bad_int('max_levels', self%max_levels, 'an integer in 1..100')
+    else if (self%agg_num_levels < 0 .or. self%agg_num_levels >= self%max_levels) then
+      call bad_int('agg_num_levels', self%agg_num_levels, 'an integer in 0..max_levels-1')
+    else if (self%agg_interp_id() < 0) then
+      call bad_name('agg_interp_type', self%agg_interp_type, agg_interp_names)
+    else if (self%agg_p_max_elmts < 0 .or. self%agg_p_max_elmts > 100) then
+      call bad_int('agg_p_max_elmts', self%agg_p_max_elmts, 'an integer in 0..100 (0: no limit)')
+    else if (self%num_paths < 1 .or. self%num_paths > 10) then
+      call bad_int('num_paths', self%num_paths, 'an integer in 1..10')
+    else if (.not. (self%strong_threshold > 0.0_rp .and. self%strong_threshold < 1.0_rp)) then
+      call bad_real('strong_threshold', self%strong_threshold, 'a real in (0, 1)')
+    else if (.not. (self%max_row_sum > 0.0_rp .and. self%max_row_sum <= 1.0_rp)) then
+      call bad_real('max_row_sum', self%max_row_sum, 'a real in (0, 1] (1: no check)')
+    else if (self%max_coarse_size < 1) then
+      call bad_int('max_coarse_size', self%max_coarse_size, 'a positive integer')
+    else if (.not. relax_known()) then
+      call bad_name('relax_type', self%relax_type, relax_names)
+    else if (self%num_sweeps < 1 .or. self%num_sweeps > 20) then
+      call bad_int('num_sweeps', self%num_sweeps, 'an integer in 1..20')
+    else if (.not. (self%relax_wt > 0.0_rp .and. self%relax_wt < 2.0_rp)) then
+      call bad_real('relax_wt', self%relax_wt, 'a real in (0, 2)')
+    else if (self%print_level < 0 .or. self%print_level > 3) then
+      call bad_int('print_level', self%print_level, 'an integer in 0..3')
+    end if
+
+  contains
+
+    logical function relax_known()
+      call self%relax_ids(down, up)
+      relax_known = down >= 0
+    end function relax_known
+
+    subroutine bad_int(field, value, accepted)
+      character(len=*), intent(in) :: field, accepted
+      integer, intent(in) :: value
+      character(len=32) :: v
+      write(v, '(i0)') value
+      call status%set('amg_params: '//field//' = '//trim(v)//' is not valid; expected '//accepted)
+    end subroutine bad_int
+
+    subroutine bad_real(field, value, accepted)
+      character(len=*), intent(in) :: field, accepted
+      real(rp), intent(in) :: value
+      call status%set('amg_params: '//field//' = '//real_text(value)//' is not valid; expected '// &
+                      accepted)
+    end subroutine bad_real
+
+    subroutine bad_name(field, value, accepted)
+      character(len=*), intent(in) :: field, value, accepted
+      call status%set('amg_params: '//field//' = '''//trim(value)//''' is not valid; expected one of: '// &
+                      accepted)
+    end subroutine bad_name
+  end subroutine validate
+
+  !> "name = value" lines of every field, for the log echo.
+  subroutine to_lines(self, lines)
+    class(amg_params_t), intent(in) :: self
+    character(len=amg_line_len), allocatable, intent(out) :: lines(:)
+    allocate(lines(18))
+    lines(1) = int_line('num_functions', self%num_functions)
+    lines(2) = int_line('nodal', self%nodal)
+    lines(3) = 'coarsen_type = '//trim(self%coarsen_type)
+    lines(4) = 'interp_type = '//trim(self%interp_type)
+    lines(5) = int_line('p_max_elmts', self%p_max_elmts)
+    lines(6) = 'trunc_factor = '//real_text(self%trunc_factor)
+    lines(7) = int_line('agg_num_levels', self%agg_num_levels)
+    lines(8) = 'agg_interp_type = '//trim(self%agg_interp_type)
+    lines(9) = int_line('agg_p_max_elmts', self%agg_p_max_elmts)
+    lines(10) = int_line('num_paths', self%num_paths)
+    lines(11) = 'strong_threshold = '//real_text(self%strong_threshold)
+    lines(12) = 'max_row_sum = '//real_text(self%max_row_sum)
+    lines(13) = int_line('max_levels', self%max_levels)
+    lines(14) = int_line('max_coarse_size', self%max_coarse_size)
+    lines(15) = 'relax_type = '//trim(self%relax_type)
+    lines(16) = int_line('num_sweeps', self%num_sweeps)
+    lines(17) = 'relax_wt = '//real_text(self%relax_wt)
+    lines(18) = int_line('print_level', self%print_level)
+  end subroutine to_lines
+
+  !> hypre id of coarsen_type, or -1 when the name is unknown.
+  integer function coarsen_id(self)
+    class(amg_params_t), intent(in) :: self
+    select case (lower(self%coarsen_type))
+    case ('cljp');         coarsen_id = 0
+    case ('ruge-stueben'); coarsen_id = 3
+    case ('falgout');      coarsen_id = 6
+    case ('pmis');         coarsen_id = 8
+    case ('hmis');         coarsen_id = 10
+    case default;          coarsen_id = -1
+    end select
+  end function coarsen_id
+
+  !> hypre id of interp_type, or -1 when the name is unknown.
+  integer function interp_id(self)
+    class(amg_params_t), intent(in) :: self
+    select case (lower(self%interp_type))
+    case ('classical'); interp_id = 0
+    case ('direct');    interp_id = 3
+    case ('multipass'); interp_id = 4
+    case ('ext+i');     interp_id = 6
+    case ('standard');  interp_id = 8
+    case ('ff1');       interp_id = 13
+    case ('ext');       interp_id = 14
+    case ('ext-mm');    interp_id = 16
+    case ('ext+i-mm');  interp_id = 17
+    case ('ext+e-mm');  interp_id = 18
+    case default;       interp_id = -1
+    end select
+  end function interp_id
+
+  !> hypre id of agg_interp_type, or -1 when the name is unknown.
+  integer function agg_interp_id(self)
+    class(amg_params_t), intent(in) :: self
+    select case (lower(self%agg_interp_type))
+    case ('2s-ext+i');    agg_interp_id = 1
+    case ('2s-standard'); agg_interp_id = 2
+    case ('2s-ext');      agg_interp_id = 3
+    case ('multipass');   agg_interp_id = 4
+    case ('2s-ext-mm');   agg_interp_id = 5
+    case ('2s-ext+i-mm'); agg_interp_id = 6
+    case ('2s-ext+e-mm'); agg_interp_id = 7
+    case default;         agg_interp_id = -1
+    end select
+  end function agg_interp_id
+
+  !> hypre ids of the down- and up-cycle smoothers of relax_type, or -1 and
+  !> -1 when the name is unknown.
+  subroutine relax_ids(self, down, up)
+    class(amg_params_t), intent(in) :: self
+    integer, intent(out) :: down, up
+    select case (lower(self%relax_type))
+    case ('jacobi');     down = 0;  up = 0
+    case ('hybrid-gs');  down = 3;  up = 4
+    case ('hybrid-sgs'); down = 6;  up = 6
+    case ('l1-sgs');     down = 8;  up = 8
+    case ('l1-gs');      down = 13; up = 14
+    case ('chebyshev');  down = 16; up = 16
+    case ('l1-jacobi');  down = 18; up = 18
+    case default;        down = -1; up = -1
+    end select
+  end subroutine relax_ids
+
+  ! ---- helpers ---------------------------------------------------------------
+
+  !> Lower-case, left-adjusted, trimmed copy of a name.
+  function lower(s) result(t)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: t
+    integer :: i, c
+    t = trim(adjustl(s))
+    do i = 1, len(t)
+      c = iachar(t(i:i))
+      if (c >= iachar('A') .and. c <= iachar('Z')) t(i:i) = achar(c + 32)
+    end do
+  end function lower
+
+  function int_line(name, value) result(line)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: value
+    character(len=amg_line_len) :: line
+    write(line, '(a,a,i0)') name, ' = ', value
+  end function int_line
+
+  function real_text(x) result(s)
+    real(rp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=32) :: buf
+    write(buf, '(g0.6)') x
+    s = trim(adjustl(buf))
+  end function real_text
+end module amg_params

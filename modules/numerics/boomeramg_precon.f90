@@ -1,0 +1,317 @@
+!> BoomerAMG (hypre) as a preconditioner: one V-cycle from a zero initial
+!> guess per application.
+!>
+!> setup() copies the matrix into hypre (hypre_ij_t) and builds the AMG
+!> hierarchy with the settings of an amg_params_t; update() takes new values
+!> in the same pattern and rebuilds the hierarchy. For systems
+!> (num_functions > 1) every owned row gets a function id: by default
+!> mod(global row - 1, num_functions), i.e. interleaved unknowns (our
+!> displacement dofs 3*(node-1)+c), or the ids given by the caller. hypre
+!> gets them explicitly (HYPRE_BoomerAMGSetDofFunc) so that the mapping does
+!> not depend on how rows are split among ranks.
+module boomeramg_precon
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_f_pointer, &
+    c_size_t, c_sizeof
+  use kinds, only: rp, ip, gp, hypre_int, name_len, msg_len
+  use parallel_comm, only: parallel_comm_t, wall_time
+  use error_status, only: error_status_t
+  use csr_matrix, only: csr_matrix_t
+  use precon, only: precon_t
+  use amg_params, only: amg_params_t, amg_line_len
+  use hypre_ij, only: hypre_ij_t, hypre_check
+  use hypre_c, only: HYPRE_MEMORY_HOST, HYPRE_ClearAllErrors, HYPRE_GetError, hypre_CAlloc, &
+    HYPRE_BoomerAMGCreate, HYPRE_BoomerAMGDestroy, HYPRE_BoomerAMGSetup, HYPRE_BoomerAMGSolve, &
+    HYPRE_BoomerAMGGetGridHierarchy, HYPRE_BoomerAMGSetTol, HYPRE_BoomerAMGSetMaxIter, &
+    HYPRE_BoomerAMGSetPrintLevel, HYPRE_BoomerAMGSetNumFunctions, HYPRE_BoomerAMGSetDofFunc, &
+    HYPRE_BoomerAMGSetNodal, HYPRE_BoomerAMGSetCoarsenType, HYPRE_BoomerAMGSetInterpType, &
+    HYPRE_BoomerAMGSetAggNumLevels, HYPRE_BoomerAMGSetAggInterpType, &
+    HYPRE_BoomerAMGSetAggPMaxElmts, HYPRE_BoomerAMGSetNumPaths, &
+    HYPRE_BoomerAMGSetStrongThreshold, HYPRE_BoomerAMGSetMaxRowSum, &
+    HYPRE_BoomerAMGSetMaxLevels, HYPRE_BoomerAMGSetMaxCoarseSize, &
+    HYPRE_BoomerAMGSetRelaxType, HYPRE_BoomerAMGSetCycleRelaxType, &
+    HYPRE_BoomerAMGSetNumSweeps, HYPRE_BoomerAMGSetRelaxWt, &
+    HYPRE_BoomerAMGSetTruncFactor, HYPRE_BoomerAMGSetPMaxElmts
+  implicit none
+  private
+
+  public :: boomeramg_precon_t
+
+  !> One BoomerAMG V-cycle as M^-1. Holds C handles: do not copy by
+  !> assignment; call free() when done.
+  type, extends(precon_t) :: boomeramg_precon_t
+    type(parallel_comm_t) :: comm
+    type(amg_params_t) :: params
+    type(hypre_ij_t) :: ij                         !< hypre copy of A, vectors b and x
+    type(c_ptr) :: solver = c_null_ptr             !< HYPRE_Solver (owned here)
+    integer(hypre_int), allocatable :: dof_func(:) !< 0-based function id per owned row (systems)
+    integer :: apply_errors = 0                    !< applications in which hypre reported an error
+    ! hierarchy sizes, known after measure_hierarchy() (same on every rank)
+    integer :: num_levels = 0
+    integer(gp), allocatable :: level_rows(:)      !< (num_levels) global rows per level, finest first
+    real(rp) :: grid_complexity = 0.0_rp           !< sum of level rows / fine rows
+  contains
+    procedure :: setup
+    procedure :: update
+    procedure :: apply => amg_apply
+    procedure :: name => amg_name
+    procedure :: measure_hierarchy
+    procedure :: hierarchy_lines
+    procedure :: free => amg_free
+  end type boomeramg_precon_t
+
+contains
+
+  !> Build the preconditioner for the square matrix a with the settings
+  !> params. dof_func (optional, num_functions > 1): the 0-based function id
+  !> of each owned row; without it unknowns are taken as interleaved
+  !> (id = mod(global row - 1, num_functions)). Nodal coarsening (nodal > 0)
+  !> needs whole nodes on every rank, interleaved. Collective; times itself
+  !> into setup_time (seconds). status reports, on every rank alike, bad
+  !> settings, a bad dof_func, or a failure of hypre.
+  subroutine setup(self, a, params, status, dof_func)
+    class(boomeramg_precon_t), intent(inout) :: self
+    type(csr_matrix_t), intent(in) :: a
+    type(amg_params_t), intent(in) :: params
+    type(error_status_t), intent(inout) :: status
+    integer, intent(in), optional :: dof_func(:)
+    real(rp) :: t0
+
+    t0 = wall_time()
+    call self%free()
+    call params%validate(status)
+    if (.not. status%ok()) return
+    if (.not. associated(a%row_map)) then
+      call status%set('boomeramg_precon%setup: the matrix has no pattern')
+      return
+    end if
+    self%comm = a%row_map%comm
+    self%params = params
+    call make_dof_func(self, a, status, dof_func)
+    if (.not. status%ok()) return
+    call self%ij%init(a, status)
+    if (.not. status%ok()) return
+    call build_hierarchy(self, status)
+    self%setup_time = wall_time() - t0
+  end subroutine setup
+
+  !> New values of the matrix given to setup() (same pattern): copy them and
+  !> rebuild the hierarchy with the same settings. Collective; setup_time is
+  !> the time of this update.
+  subroutine update(self, a, status)
+    class(boomeramg_precon_t), intent(inout) :: self
+    type(csr_matrix_t), intent(in) :: a
+    type(error_status_t), intent(inout) :: status
+    real(rp) :: t0
+    t0 = wall_time()
+    if (.not. self%ij%is_ready()) then
+      call status%set('boomeramg_precon%update: setup() was not called')
+      return
+    end if
+    call self%ij%update_values(a, status)
+    if (.not. status%ok()) return
+    call build_hierarchy(self, status)
+    self%setup_time = wall_time() - t0
+  end subroutine update
+
+  !> Function id of every owned row (num_functions > 1), checked.
+  subroutine make_dof_func(self, a, status, dof_func)
+    type(boomeramg_precon_t), intent(inout) :: self
+    type(csr_matrix_t), intent(in) :: a
+    type(error_status_t), intent(inout) :: status
+    integer, intent(in), optional :: dof_func(:)
+    integer :: nf, i
+    integer(gp) :: first
+    character(len=msg_len) :: msg
+    logical :: bad
+
+    nf = self%params%num_functions
+    if (nf == 1) return
+    first = a%row_map%first
+    allocate(self%dof_func(a%n_rows))
+    bad = .false.
+    msg = ''
+    if (present(dof_func)) then
+      if (size(dof_func) /= a%n_rows) then
+        bad = .true.
+        write(msg, '(a,i0,a,i0,a)') 'boomeramg_precon%setup: dof_func has ', size(dof_func), &
+          ' entries for ', a%n_rows, ' owned rows'
+      else if (any(dof_func < 0 .or. dof_func >= nf)) then
+        bad = .true.
+        write(msg, '(a,i0)') 'boomeramg_precon%setup: dof_func entries must lie in 0..', nf - 1
+      else
+        self%dof_func = int(dof_func, hypre_int)
+      end if
+    else
+      do i = 1, a%n_rows
+        self%dof_func(i) = int(mod(first + i - 2, int(nf, gp)), hypre_int)
+      end do
+    end if
+    if (.not. bad .and. self%params%nodal > 0) then
+      ! hypre's nodal coarsening takes blocks of nf consecutive rows as nodes
+      bad = mod(first - 1, int(nf, gp)) /= 0 .or. mod(a%n_rows, nf) /= 0
+      if (.not. bad) then
+        do i = 1, a%n_rows
+          if (self%dof_func(i) /= mod(i - 1, nf)) bad = .true.
+        end do
+      end if
+      if (bad) write(msg, '(a,i0,a,i0,a)') 'boomeramg_precon%setup: nodal = ', self%params%nodal, &
+        ' needs whole nodes of ', nf, ' interleaved unknowns on every rank'
+    end if
+    if (self%comm%any_true(bad)) then
+      if (.not. bad) msg = 'boomeramg_precon%setup: bad dof_func or node layout on another rank'
+      call status%set(msg)
+    end if
+  end subroutine make_dof_func
+
+  !> (Re)create the hypre solver with self%params and build the hierarchy of
+  !> the matrix in self%ij.
+  subroutine build_hierarchy(self, status)
+    type(boomeramg_precon_t), intent(inout) :: self
+    type(error_status_t), intent(inout) :: status
+    type(amg_params_t) :: p
+    integer(hypre_int) :: ierr
+    integer(hypre_int), pointer :: f(:)
+    type(c_ptr) :: fp
+    integer :: down, up, n
+
+    p = self%params
+    if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
+    self%solver = c_null_ptr
+    ierr = HYPRE_ClearAllErrors()
+    ierr = HYPRE_BoomerAMGCreate(self%solver)
+    ! a preconditioner: exactly one cycle, no convergence test
+    ierr = HYPRE_BoomerAMGSetTol(self%solver, 0.0_rp)
+    ierr = HYPRE_BoomerAMGSetMaxIter(self%solver, 1_hypre_int)
+    ierr = HYPRE_BoomerAMGSetPrintLevel(self%solver, int(p%print_level, hypre_int))
+    ierr = HYPRE_BoomerAMGSetCoarsenType(self%solver, int(p%coarsen_id(), hypre_int))
+    ierr = HYPRE_BoomerAMGSetInterpType(self%solver, int(p%interp_id(), hypre_int))
+    ierr = HYPRE_BoomerAMGSetPMaxElmts(self%solver, int(p%p_max_elmts, hypre_int))
+    ierr = HYPRE_BoomerAMGSetTruncFactor(self%solver, p%trunc_factor)
+    ierr = HYPRE_BoomerAMGSetAggNumLevels(self%solver, int(p%agg_num_levels, hypre_int))
+    ierr = HYPRE_BoomerAMGSetAggInterpType(self%solver, int(p%agg_interp_id(), hypre_int))
+    ierr = HYPRE_BoomerAMGSetAggPMaxElmts(self%solver, int(p%agg_p_max_elmts, hypre_int))
+    ierr = HYPRE_BoomerAMGSetNumPaths(self%solver, int(p%num_paths, hypre_int))
+    ierr = HYPRE_BoomerAMGSetStrongThreshold(self%solver, p%strong_threshold)
+    ierr = HYPRE_BoomerAMGSetMaxRowSum(self%solver, p%max_row_sum)
+    ierr = HYPRE_BoomerAMGSetMaxLevels(self%solver, int(p%max_levels, hypre_int))
+    ierr = HYPRE_BoomerAMGSetMaxCoarseSize(self%solver, int(p%max_coarse_size, hypre_int))
+    call p%relax_ids(down, up)
+    ierr = HYPRE_BoomerAMGSetRelaxType(self%solver, int(down, hypre_int))
+    ierr = HYPRE_BoomerAMGSetCycleRelaxType(self%solver, int(down, hypre_int), 1_hypre_int)
+    ierr = HYPRE_BoomerAMGSetCycleRelaxType(self%solver, int(up, hypre_int), 2_hypre_int)
+    ierr = HYPRE_BoomerAMGSetCycleRelaxType(self%solver, 9_hypre_int, 3_hypre_int)
+    ierr = HYPRE_BoomerAMGSetNumSweeps(self%solver, int(p%num_sweeps, hypre_int))
+    ierr = HYPRE_BoomerAMGSetRelaxWt(self%solver, p%relax_wt)
+    if (p%num_functions > 1) then
+      ierr = HYPRE_BoomerAMGSetNumFunctions(self%solver, int(p%num_functions, hypre_int))
+      ierr = HYPRE_BoomerAMGSetNodal(self%solver, int(p%nodal, hypre_int))
+      ! hypre keeps and later frees dof_func: give it memory from its own
+      ! allocator (at least one entry, so that an empty rank passes no NULL)
+      n = size(self%dof_func)
+      fp = hypre_CAlloc(int(max(n, 1), c_size_t), c_sizeof(0_hypre_int), HYPRE_MEMORY_HOST)
+      if (c_associated(fp)) then
+        call c_f_pointer(fp, f, [max(n, 1)])
+        f = 0
+        f(1:n) = self%dof_func
+        ierr = HYPRE_BoomerAMGSetDofFunc(self%solver, fp)
+      end if
+    end if
+    ierr = HYPRE_BoomerAMGSetup(self%solver, self%ij%par_a, self%ij%par_b, self%ij%par_x)
+    call hypre_check(self%comm, HYPRE_GetError(), 'boomeramg_precon: BoomerAMG set-up', status)
+    ! the sizes of the previous hierarchy no longer hold
+    self%num_levels = 0
+    if (allocated(self%level_rows)) deallocate(self%level_rows)
+    self%grid_complexity = 0.0_rp
+  end subroutine build_hierarchy
+
+  !> Measure the hierarchy of the last set-up: num_levels, level_rows and
+  !> grid_complexity, from the last level that holds each fine row. hypre
+  !> does not expose the coarse operators, so the operator complexity is not
+  !> available. Collective. On demand, not in every set-up, because hypre
+  !> 2.26's HYPRE_BoomerAMGGetGridHierarchy leaks its work buffer (8 bytes per
+  !> owned row per call): call it once for the log, not in a Newton loop.
+  subroutine measure_hierarchy(self, status)
+    class(boomeramg_precon_t), intent(inout) :: self
+    type(error_status_t), intent(inout) :: status
+    integer(hypre_int), allocatable :: cgrid(:)
+    integer(hypre_int) :: ierr
+    integer(gp), allocatable :: counts(:)
+    integer :: l, top
+
+    if (.not. c_associated(self%solver)) then
+      call status%set('boomeramg_precon%measure_hierarchy: setup() was not called')
+      return
+    end if
+    allocate(cgrid(max(self%ij%n_rows, 1)))
+    cgrid = 0
+    ierr = HYPRE_BoomerAMGGetGridHierarchy(self%solver, cgrid)
+    call hypre_check(self%comm, HYPRE_GetError(), 'boomeramg_precon: reading the grid hierarchy', &
+                     status)
+    if (.not. status%ok()) return
+    top = 0
+    if (self%ij%n_rows > 0) top = maxval(cgrid(1:self%ij%n_rows))
+    self%num_levels = self%comm%max(int(top, ip)) + 1
+    allocate(counts(self%num_levels))
+    do l = 1, self%num_levels
+      counts(l) = count(cgrid(1:self%ij%n_rows) >= l - 1)
+    end do
+    call self%comm%sum_all(counts)
+    if (allocated(self%level_rows)) deallocate(self%level_rows)
+    self%level_rows = counts
+    self%grid_complexity = 0.0_rp
+    if (counts(1) > 0) self%grid_complexity = real(sum(counts), rp) / real(counts(1), rp)
+  end subroutine measure_hierarchy
+
+  !> z = M^-1 r: one V-cycle on A z = r from z = 0. Collective. A hypre error
+  !> does not stop the run: it is counted in apply_errors (the Krylov solver
+  !> will see the bad z).
+  subroutine amg_apply(self, r, z)
+    class(boomeramg_precon_t), intent(inout) :: self
+    real(rp), intent(in) :: r(:)
+    real(rp), intent(out) :: z(:)
+    integer(hypre_int) :: ierr
+    if (.not. c_associated(self%solver)) error stop 'boomeramg_precon%apply: setup() was not called'
+    ierr = HYPRE_ClearAllErrors()
+    call self%ij%set_rhs(r)
+    call self%ij%zero_x()
+    ierr = HYPRE_BoomerAMGSolve(self%solver, self%ij%par_a, self%ij%par_b, self%ij%par_x)
+    call self%ij%get_x(z, ierr)
+    if (ierr /= 0) self%apply_errors = self%apply_errors + 1
+  end subroutine amg_apply
+
+  function amg_name(self) result(s)
+    class(boomeramg_precon_t), intent(in) :: self
+    character(len=name_len) :: s
+    s = 'boomeramg'
+  end function amg_name
+
+  !> Lines describing the hierarchy found by measure_hierarchy(), for the
+  !> log: number of levels, grid complexity, rows per level.
+  subroutine hierarchy_lines(self, lines)
+    class(boomeramg_precon_t), intent(in) :: self
+    character(len=amg_line_len), allocatable, intent(out) :: lines(:)
+    integer :: l
+    allocate(lines(2 + self%num_levels))
+    write(lines(1), '(a,i0)') 'levels = ', self%num_levels
+    write(lines(2), '(a,f0.3)') 'grid complexity = ', self%grid_complexity
+    do l = 1, self%num_levels
+      write(lines(2 + l), '(a,i0,a,i0)') 'level ', l - 1, ': rows = ', self%level_rows(l)
+    end do
+  end subroutine hierarchy_lines
+
+  !> Destroy the hypre solver and matrix copy.
+  subroutine amg_free(self)
+    class(boomeramg_precon_t), intent(inout) :: self
+    integer(hypre_int) :: ierr
+    if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
+    self%solver = c_null_ptr
+    call self%ij%free()
+    if (allocated(self%dof_func)) deallocate(self%dof_func)
+    if (allocated(self%level_rows)) deallocate(self%level_rows)
+    self%num_levels = 0
+    self%grid_complexity = 0.0_rp
+    self%apply_errors = 0
+    ! what precon_t%free does (a binding of an abstract parent cannot be called)
+    self%setup_time = 0.0_rp
+  end subroutine amg_free
+end module boomeramg_precon

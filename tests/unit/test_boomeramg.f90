@@ -1,0 +1,402 @@
+!> Unit tests of the hypre binding (hypre_ij) and of the BoomerAMG
+!> preconditioner (boomeramg_precon, amg_params). Runs on 1 or more ranks.
+!>
+!> The matrices are 3D 7-point Laplacians on an n^3 grid of nodes with the
+!> Dirichlet boundary eliminated, nf interleaved components per node (global
+!> dof nf*(node-1)+c, whole nodes per rank, contiguous in rank order), each
+!> component scaled by its own factor and decoupled from the others.
+program test_boomeramg
+  use kinds, only: rp, ip, gp
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use index_map, only: index_map_t, sort_gids
+  use csr_matrix, only: csr_matrix_t
+  use dist_vector, only: pnorm2
+  use amg_params, only: amg_params_t, amg_line_len
+  use boomeramg_precon, only: boomeramg_precon_t
+  use assertions, only: test_suite_t
+  implicit none
+
+  type(parallel_comm_t) :: comm
+  type(test_suite_t) :: suite
+
+  call comm%init_world()
+  call suite%init('boomeramg', comm)
+  call test_params(suite)
+  call test_scalar(suite, comm)
+  call test_systems(suite, comm)
+  call suite%finish()
+
+contains
+
+  !> amg_params: defaults pass, every bad value is caught and named, the echo
+  !> holds every field.
+  subroutine test_params(suite)
+    type(test_suite_t), intent(inout) :: suite
+    type(amg_params_t) :: p
+    type(error_status_t) :: st
+    character(len=amg_line_len), allocatable :: lines(:)
+    integer :: down, up
+
+    call p%validate(st)
+    call suite%assert_true(st%ok(), 'params: the defaults are valid')
+    call suite%assert_equal_int(p%coarsen_id(), 10, 'params: hmis is coarsen type 10')
+    call suite%assert_equal_int(p%interp_id(), 6, 'params: ext+i is interpolation 6')
+    call suite%assert_equal_int(p%agg_interp_id(), 4, 'params: multipass is aggressive interpolation 4')
+    call p%relax_ids(down, up)
+    call suite%assert_true(down == 13 .and. up == 14, 'params: l1-gs is 13 down, 14 up')
+
+    p%coarsen_type = 'PMIS'
+    call suite%assert_equal_int(p%coarsen_id(), 8, 'params: names are case-insensitive (PMIS = 8)')
+
+    p = amg_params_t()
+    p%coarsen_type = 'foo'
+    call expect_bad(suite, p, 'coarsen_type')
+    p = amg_params_t()
+    p%interp_type = 'ext+j'
+    call expect_bad(suite, p, 'interp_type')
+    p = amg_params_t()
+    p%relax_type = 'sor'
+    call expect_bad(suite, p, 'relax_type')
+    p = amg_params_t()
+    p%agg_interp_type = 'ext+i'
+    call expect_bad(suite, p, 'agg_interp_type')
+    p = amg_params_t()
+    p%strong_threshold = 1.5_rp
+    call expect_bad(suite, p, 'strong_threshold')
+    p = amg_params_t()
+    p%nodal = 5
+    call expect_bad(suite, p, 'nodal')
+    p = amg_params_t()
+    p%num_functions = 1
+    p%nodal = 1
+    call expect_bad(suite, p, 'nodal')
+    p = amg_params_t()
+    p%num_functions = 0
+    call expect_bad(suite, p, 'num_functions')
+    p = amg_params_t()
+    p%agg_num_levels = 25
+    call expect_bad(suite, p, 'agg_num_levels')
+    p = amg_params_t()
+    p%max_row_sum = 0.0_rp
+    call expect_bad(suite, p, 'max_row_sum')
+    p = amg_params_t()
+    p%print_level = 4
+    call expect_bad(suite, p, 'print_level')
+
+    p = amg_params_t()
+    call p%to_lines(lines)
+    call suite%assert_equal_int(size(lines), 18, 'params: one echo line per field')
+    call suite%assert_true(any(lines == 'coarsen_type = hmis') .and. any(lines == 'num_functions = 3') &
+                           .and. any(lines == 'strong_threshold = 0.800000'), &
+                           'params: echo lines read "name = value"')
+  end subroutine test_params
+
+  !> p must fail validation with a message that names field.
+  subroutine expect_bad(suite, p, field)
+    type(test_suite_t), intent(inout) :: suite
+    type(amg_params_t), intent(in) :: p
+    character(len=*), intent(in) :: field
+    type(error_status_t) :: st
+    call p%validate(st)
+    call suite%assert_true(.not. st%ok() .and. index(st%msg, field//' = ') > 0, &
+                           'params: a bad '//field//' is reported by name')
+  end subroutine expect_bad
+
+  !> Scalar Laplacian, 30^3 unknowns: hypre's product equals ours; the AMG
+  !> V-cycle as a stationary iteration reduces the residual by 1e-6 in at
+  !> most 30 cycles; update() with 2A halves M^-1 r; a changed pattern is
+  !> refused.
+  subroutine test_scalar(suite, comm)
+    type(test_suite_t), intent(inout) :: suite
+    type(parallel_comm_t), intent(in) :: comm
+    type(index_map_t), target :: row_map, col_map, row_map2, col_map2
+    type(csr_matrix_t) :: a, a2
+    type(boomeramg_precon_t) :: amg
+    type(amg_params_t) :: p
+    type(error_status_t) :: st, st2
+    real(rp), allocatable :: x(:), y(:), yh(:), z1(:), z2(:)
+    integer :: cycles, ierr
+    real(rp) :: red
+
+    call build_laplacian(comm, 30, 1, [1.0_rp], row_map, col_map, a)
+    p%num_functions = 1
+    call amg%setup(a, p, st)
+    call suite%assert_true(st%ok(), 'scalar: setup succeeds: '//trim(st%msg))
+    if (.not. st%ok()) return
+    call suite%assert_true(amg%name() == 'boomeramg', 'scalar: name is boomeramg')
+    call amg%measure_hierarchy(st)
+    call suite%assert_true(st%ok(), 'scalar: measure_hierarchy succeeds')
+    call suite%assert_true(amg%num_levels >= 3 .and. amg%level_rows(1) == 27000_gp .and. &
+                           amg%grid_complexity > 1.0_rp .and. amg%grid_complexity < 3.0_rp, &
+                           'scalar: hierarchy of >= 3 levels, 27000 fine rows, grid complexity in (1,3)')
+    call suite%assert_true(amg%setup_time > 0.0_rp, 'scalar: setup is timed')
+    call report_hierarchy(comm, amg)
+
+    allocate(x(a%n_rows), y(a%n_rows), yh(a%n_rows), z1(a%n_rows), z2(a%n_rows))
+    call fill_test_vector(a, x)
+    call a%apply(x, y)
+    call amg%ij%matvec(x, yh, ierr)
+    call suite%assert_equal_int(ierr, 0, 'scalar: hypre matvec reports no error')
+    call suite%assert_close_array(yh, y, 1.0e-12_rp, 'scalar: hypre ParCSR matvec equals csr_matrix%apply')
+
+    call stationary(comm, a, amg, y, 30, cycles, red)
+    if (comm%rank == 0) write(*, '(a,i0,a,es10.3)') '  scalar Laplacian: ', cycles, &
+      ' V-cycles, residual reduction ', red
+    call suite%assert_true(red <= 1.0e-6_rp .and. cycles <= 30, &
+                           'scalar: stationary AMG iteration reduces the residual by 1e-6 in <= 30 cycles')
+    call suite%assert_equal_int(amg%apply_errors, 0, 'scalar: no hypre error while applying')
+
+    ! new values, same pattern: M(2A)^-1 r = M(A)^-1 r / 2 (AMG is scale-invariant)
+    call amg%apply(x, z1)
+    a%val = 2.0_rp * a%val
+    call amg%update(a, st)
+    call suite%assert_true(st%ok(), 'scalar: update succeeds: '//trim(st%msg))
+    call amg%apply(x, z2)
+    call suite%assert_close_array(z2 / maxval(abs(z1)), 0.5_rp * z1 / maxval(abs(z1)), 1.0e-10_rp, &
+                                  'scalar: after update(2A) the V-cycle gives half of before')
+    call a%apply(x, y)
+    call amg%ij%matvec(x, yh)
+    call suite%assert_close_array(yh, y, 2.0e-12_rp, 'scalar: hypre matvec equals ours after update')
+
+    ! a different pattern is refused on every rank
+    call build_laplacian(comm, 8, 1, [1.0_rp], row_map2, col_map2, a2)
+    call amg%update(a2, st2)
+    call suite%assert_true(.not. st2%ok() .and. index(st2%msg, 'pattern') > 0, &
+                           'scalar: update with another pattern is refused')
+    call amg%free()
+    call suite%assert_true(.not. amg%ij%is_ready() .and. amg%num_levels == 0, &
+                           'scalar: free releases the hypre objects')
+    call a%free()
+    call a2%free()
+  end subroutine test_scalar
+
+  !> Three decoupled Laplacians scaled by 1, 100 and 0.01, interleaved
+  !> (16^3 nodes, 12288 unknowns), with the default (elasticity) settings:
+  !> unknown approach and nodal coarsening both converge; an explicit
+  !> dof_func equal to the interleaved default gives the same V-cycle; a
+  !> dof_func of the wrong size is refused.
+  subroutine test_systems(suite, comm)
+    type(test_suite_t), intent(inout) :: suite
+    type(parallel_comm_t), intent(in) :: comm
+    type(index_map_t), target :: row_map, col_map
+    type(csr_matrix_t) :: a
+    type(boomeramg_precon_t) :: amg, amg2
+    type(amg_params_t) :: p
+    type(error_status_t) :: st
+    real(rp), allocatable :: x(:), b(:), z1(:), z2(:)
+    integer, allocatable :: dof_func(:)
+    integer :: cycles, i
+    real(rp) :: red
+
+    call build_laplacian(comm, 16, 3, [1.0_rp, 100.0_rp, 0.01_rp], row_map, col_map, a)
+    allocate(x(a%n_rows), b(a%n_rows), z1(a%n_rows), z2(a%n_rows))
+    call fill_test_vector(a, x)
+    call a%apply(x, b)
+
+    call amg%setup(a, p, st)
+    call suite%assert_true(st%ok(), 'systems: setup with the defaults succeeds: '//trim(st%msg))
+    if (.not. st%ok()) return
+    call amg%measure_hierarchy(st)
+    call suite%assert_true(st%ok() .and. amg%num_levels >= 3 .and. amg%level_rows(1) == 12288_gp, &
+                           'systems: hierarchy of >= 3 levels over 12288 fine rows')
+    call report_hierarchy(comm, amg)
+    call stationary(comm, a, amg, b, 30, cycles, red)
+    if (comm%rank == 0) write(*, '(a,i0,a,es10.3)') '  3 interleaved Laplacians, unknown approach: ', &
+      cycles, ' V-cycles, residual reduction ', red
+    call suite%assert_true(red <= 1.0e-6_rp .and. cycles <= 30, &
+                           'systems: unknown approach reduces the residual by 1e-6 in <= 30 cycles')
+
+    ! the same function ids given explicitly: the same preconditioner
+    allocate(dof_func(a%n_rows))
+    do i = 1, a%n_rows
+      dof_func(i) = int(mod(a%row_map%first + i - 2, 3_gp))
+    end do
+    call amg2%setup(a, p, st, dof_func)
+    call suite%assert_true(st%ok(), 'systems: setup with an explicit dof_func succeeds')
+    call amg%apply(b, z1)
+    call amg2%apply(b, z2)
+    call suite%assert_close_array(z2, z1, 1.0e-12_rp * maxval(abs(z1)), &
+                                  'systems: explicit interleaved dof_func = default mapping')
+    call amg2%free()
+
+    call amg2%setup(a, p, st, dof_func(1:a%n_rows-1))
+    call suite%assert_true(.not. st%ok() .and. index(st%msg, 'dof_func') > 0, &
+                           'systems: a dof_func of the wrong size is refused')
+    call amg2%free()
+    call amg%free()
+
+    ! nodal coarsening (row-sum norm of the 3x3 nodal blocks)
+    call st%clear()
+    p%nodal = 4
+    call amg%setup(a, p, st)
+    call suite%assert_true(st%ok(), 'systems: setup with nodal = 4 succeeds: '//trim(st%msg))
+    if (.not. st%ok()) return
+    call stationary(comm, a, amg, b, 30, cycles, red)
+    if (comm%rank == 0) write(*, '(a,i0,a,es10.3)') '  3 interleaved Laplacians, nodal = 4: ', &
+      cycles, ' V-cycles, residual reduction ', red
+    call suite%assert_true(red <= 1.0e-6_rp .and. cycles <= 30, &
+                           'systems: nodal coarsening reduces the residual by 1e-6 in <= 30 cycles')
+    call amg%free()
+    call a%free()
+  end subroutine test_systems
+
+  ! ---- helpers ---------------------------------------------------------------
+
+  !> x <- x + M^-1 (b - A x) from x = 0 until ||r|| <= 1e-6 ||b|| or max_cycles.
+  subroutine stationary(comm, a, m, b, max_cycles, cycles, reduction)
+    type(parallel_comm_t), intent(in) :: comm
+    type(csr_matrix_t), intent(inout) :: a
+    type(boomeramg_precon_t), intent(inout) :: m
+    real(rp), intent(in) :: b(:)
+    integer, intent(in) :: max_cycles
+    integer, intent(out) :: cycles
+    real(rp), intent(out) :: reduction
+    real(rp), allocatable :: x(:), r(:), z(:), ax(:)
+    real(rp) :: bnorm
+    allocate(x(size(b)), r(size(b)), z(size(b)), ax(size(b)))
+    x = 0.0_rp
+    r = b
+    bnorm = pnorm2(comm, b)
+    reduction = 1.0_rp
+    cycles = 0
+    do while (cycles < max_cycles .and. reduction > 1.0e-6_rp)
+      call m%apply(r, z)
+      x = x + z
+      call a%apply(x, ax)
+      r = b - ax
+      reduction = pnorm2(comm, r) / bnorm
+      cycles = cycles + 1
+    end do
+  end subroutine stationary
+
+  !> A smooth-plus-oscillating vector defined by global ids (the same on any
+  !> number of ranks).
+  subroutine fill_test_vector(a, x)
+    type(csr_matrix_t), intent(in) :: a
+    real(rp), intent(out) :: x(:)
+    integer(ip) :: i
+    real(rp) :: g
+    do i = 1, a%n_rows
+      g = real(a%row_map%first + i - 1, rp)
+      x(i) = sin(0.37_rp * g) + 0.1_rp * cos(1.3_rp * g) + 1.0_rp
+    end do
+  end subroutine fill_test_vector
+
+  subroutine report_hierarchy(comm, m)
+    type(parallel_comm_t), intent(in) :: comm
+    type(boomeramg_precon_t), intent(in) :: m
+    character(len=amg_line_len), allocatable :: lines(:)
+    integer :: l
+    call m%hierarchy_lines(lines)
+    if (comm%rank == 0) then
+      write(*, '(a,a,a,a)') '  ', trim(lines(1)), ', ', trim(lines(2))
+      do l = 3, size(lines)
+        write(*, '(4x,a)') trim(lines(l))
+      end do
+    end if
+  end subroutine report_hierarchy
+
+  !> nf decoupled 7-point Laplacians (component c scaled by scale(c)) on an
+  !> n^3 grid of nodes, Dirichlet boundary eliminated, interleaved unknowns.
+  !> Nodes are split into contiguous ranges by rank; the maps and the matrix
+  !> are built here with the ghost columns of the neighbouring ranks.
+  subroutine build_laplacian(comm, n, nf, scale, row_map, col_map, a)
+    type(parallel_comm_t), intent(in) :: comm
+    integer, intent(in) :: n, nf
+    real(rp), intent(in) :: scale(:)
+    type(index_map_t), intent(inout), target :: row_map, col_map
+    type(csr_matrix_t), intent(inout) :: a
+    integer(gp) :: n_nodes, first_node, node, first, last, g
+    integer(gp), allocatable :: gcol(:), ghosts(:), no_ghosts(:)
+    integer(ip), allocatable :: row_ptr(:), col(:), pos(:), lc(:)
+    real(rp), allocatable :: v(:)
+    integer(ip) :: n_owned, own_nodes, i, k, m, ng
+    integer :: c, ix, iy, iz, d
+    integer, parameter :: step(3, 6) = reshape([-1,0,0, 1,0,0, 0,-1,0, 0,1,0, 0,0,-1, 0,0,1], [3, 6])
+    integer :: nb(3)
+
+    n_nodes = int(n, gp)**3
+    own_nodes = int(n_nodes / comm%size, ip)
+    if (comm%rank < mod(n_nodes, int(comm%size, gp))) own_nodes = own_nodes + 1
+    first_node = comm%exscan_g(int(own_nodes, gp)) + 1
+    n_owned = nf * own_nodes
+    first = nf * (first_node - 1) + 1
+    last = first + n_owned - 1
+
+    ! pattern with global column ids: diagonal first, then up to 6 neighbours
+    allocate(row_ptr(n_owned + 1), gcol(7 * n_owned), v(7 * n_owned))
+    row_ptr(1) = 1
+    k = 0
+    do i = 1, n_owned
+      g = first + i - 1
+      node = (g - 1) / nf
+      c = int(mod(g - 1, int(nf, gp))) + 1
+      ix = int(mod(node, int(n, gp)))
+      iy = int(mod(node / n, int(n, gp)))
+      iz = int(node / (int(n, gp) * n))
+      k = k + 1
+      gcol(k) = g
+      v(k) = 6.0_rp * scale(c)
+      do d = 1, 6
+        nb = [ix, iy, iz] + step(:, d)
+        if (any(nb < 0) .or. any(nb >= n)) cycle
+        k = k + 1
+        gcol(k) = nf * (nb(1) + int(n, gp) * nb(2) + int(n, gp)**2 * nb(3)) + c
+        v(k) = -scale(c)
+      end do
+      row_ptr(i + 1) = k + 1
+    end do
+
+    ! ghost columns: the distinct global ids outside [first, last]
+    ghosts = pack(gcol(1:k), gcol(1:k) < first .or. gcol(1:k) > last)
+    allocate(pos(size(ghosts)))
+    call sort_gids(ghosts, pos)
+    ng = 0
+    do m = 1, size(ghosts)
+      if (ng > 0) then
+        if (ghosts(m) == ghosts(ng)) cycle
+      end if
+      ng = ng + 1
+      ghosts(ng) = ghosts(m)
+    end do
+    allocate(no_ghosts(0))
+    call row_map%init(comm, n_owned, no_ghosts)
+    call col_map%init(comm, n_owned, ghosts(1:ng))
+
+    ! local column ids, ascending within each row
+    allocate(col(k), lc(7))
+    do i = 1, n_owned
+      m = row_ptr(i + 1) - row_ptr(i)
+      do d = 1, m
+        lc(d) = col_map%local_id(gcol(row_ptr(i) + d - 1))
+      end do
+      call sort_row(lc(1:m), v(row_ptr(i):row_ptr(i + 1) - 1))
+      col(row_ptr(i):row_ptr(i + 1) - 1) = lc(1:m)
+    end do
+    call a%init(row_map, col_map, row_ptr, col)
+    a%val = v(1:k)
+  end subroutine build_laplacian
+
+  !> Insertion sort of a short row by local column id, values alongside.
+  subroutine sort_row(lc, v)
+    integer(ip), intent(inout) :: lc(:)
+    real(rp), intent(inout) :: v(:)
+    integer :: i, j
+    integer(ip) :: tc
+    real(rp) :: tv
+    do i = 2, size(lc)
+      tc = lc(i)
+      tv = v(i)
+      j = i - 1
+      do while (j >= 1)
+        if (lc(j) <= tc) exit
+        lc(j + 1) = lc(j)
+        v(j + 1) = v(j)
+        j = j - 1
+      end do
+      lc(j + 1) = tc
+      v(j + 1) = tv
+    end do
+  end subroutine sort_row
+end program test_boomeramg
