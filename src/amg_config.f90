@@ -21,7 +21,7 @@ contains
   !> Read &amg into params (which keeps its defaults for what the deck leaves out).
   subroutine read_amg_config(d, log, params, status)
     type(deck_t), intent(in) :: d
-    type(logger_t), intent(in) :: log
+    type(logger_t), intent(inout) :: log
     type(amg_params_t), intent(inout) :: params
     type(error_status_t), intent(inout) :: status
     integer :: num_functions, nodal, p_max_elmts, agg_num_levels, agg_p_max_elmts, num_paths, &
@@ -51,9 +51,12 @@ contains
         return
       end if
     end if
-    params = amg_params_t(num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor, &
-                       agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths, strong_threshold, &
-                       max_row_sum, max_levels, max_coarse_size, relax_type, num_sweeps, relax_wt, print_level)
+    params = amg_params_t(num_functions=num_functions, nodal=nodal, coarsen_type=coarsen_type, &
+      interp_type=interp_type, p_max_elmts=p_max_elmts, trunc_factor=trunc_factor, &
+      agg_num_levels=agg_num_levels, agg_interp_type=agg_interp_type, agg_p_max_elmts=agg_p_max_elmts, &
+      num_paths=num_paths, strong_threshold=strong_threshold, max_row_sum=max_row_sum, &
+      max_levels=max_levels, max_coarse_size=max_coarse_size, relax_type=relax_type, &
+      num_sweeps=num_sweeps, relax_wt=relax_wt, print_level=print_level)
     call params%validate(vstat)
     if (.not. vstat%ok()) then
       write(msg, '(a,i0,a)') "deck '"//trim(d%path)//"', group &amg (line ", d%first_line('amg', 1), "): "// &

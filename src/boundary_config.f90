@@ -28,7 +28,7 @@ contains
   !> Read every &boundary group.
   subroutine read_boundaries(d, log, bcs, status)
     type(deck_t), intent(in) :: d
-    type(logger_t), intent(in) :: log
+    type(logger_t), intent(inout) :: log
     type(boundary_config_t), allocatable, intent(out) :: bcs(:)
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: set

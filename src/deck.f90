@@ -375,7 +375,7 @@ contains
   !> Write lines (e.g. a namelist written to an internal file) to the log.
   subroutine echo(self, log, lines)
     class(deck_t), intent(in) :: self
-    type(logger_t), intent(in) :: log
+    type(logger_t), intent(inout) :: log
     character(len=*), intent(in) :: lines(:)
     integer :: i
     do i = 1, size(lines)

@@ -97,7 +97,7 @@ contains
       call timers%stop('assembly', t_asm)
       if (step == 1 .and. run%export_matrix) then
         mm = trim(run%out_dir)//'/'//trim(run%prefix)
-        call write_exports(comm, log, phys, mm)
+        call write_exports(comm, log, phys, trim(mm))
       end if
       ! the stiffness does not depend on the load: set up once
       t_setup = 0.0_rp
@@ -106,6 +106,7 @@ contains
         call solver%setup(phys%k, status, symmetric=.true.)
         call timers%stop('preconditioner setup', t_setup)
         call agree(comm, status)
+        if (status%ok()) call solver%setup_report(log, status)
         if (.not. status%ok()) call log%fatal(comm, 'step '//itoa(step)//': '//trim(status%msg))
       end if
       call timers%start('solve')

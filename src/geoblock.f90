@@ -47,9 +47,6 @@ program geoblock
 
   call log%info('geoblock: '//trim(run%title))
   call log%info('deck: '//trim(path)//', ranks: '//itoa(comm%size))
-  call log%detail('deck variables (defaults included):')
-  ! the readers echo their groups; re-read &run so that it reaches the log file
-  call run%read(d, log, status)
 
   select case (run%physics)
   case ('elasticity')

@@ -14,6 +14,8 @@ module linear_solver
   use jacobi_precon, only: jacobi_precon_t
   use boomeramg_precon, only: boomeramg_precon_t
   use amg_params, only: amg_params_t
+  use logger, only: logger_t
+  use strings, only: itoa
   use mumps_solver, only: mumps_solver_t
   use solver_config, only: solver_config_t
   implicit none
@@ -32,6 +34,7 @@ module linear_solver
     procedure :: setup
     procedure :: solve
     procedure :: describe
+    procedure :: setup_report
     procedure :: free
   end type linear_solver_t
 
@@ -141,6 +144,33 @@ contains
       s = trim(self%krylov%name())//' + '//trim(self%precon%name())
     end if
   end function describe
+
+  !> Log what the last set-up built: the AMG hierarchy, or the MUMPS factors
+  !> and their peak memory. Collective.
+  subroutine setup_report(self, log, status)
+    class(linear_solver_t), intent(inout) :: self
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    character(len=msg_len) :: line
+    integer :: i
+    select type (m => self%precon)
+    type is (boomeramg_precon_t)
+      call m%measure_hierarchy(status)
+      if (.not. status%ok()) return
+      write(line, '(a,i0,a,f6.3,a)') '  BoomerAMG: ', m%num_levels, ' levels, grid complexity ', &
+        m%grid_complexity, ', rows per level:'
+      do i = 1, size(m%level_rows)
+        line = trim(line)//' '//itoa(int(m%level_rows(i)))
+      end do
+      call log%info(line)
+    type is (mumps_solver_t)
+      write(line, '(a,i0,a,i0,a,i0,a,f8.3,a)') '  MUMPS: ', m%factor_entries, ' entries in the factors, peak memory ', &
+        m%peak_mem_max_mb, ' MB (max over ranks), ', m%peak_mem_total_mb, ' MB (total), analysis + factorization ', &
+        m%setup_time, ' s'
+      call log%info(line)
+    class default
+    end select
+  end subroutine setup_report
 
   subroutine free(self)
     class(linear_solver_t), intent(inout) :: self

@@ -27,7 +27,7 @@ contains
   !> Read every &material group; at least one is required, regions unique.
   subroutine read_materials(d, log, mats, status)
     type(deck_t), intent(in) :: d
-    type(logger_t), intent(in) :: log
+    type(logger_t), intent(inout) :: log
     type(material_config_t), allocatable, intent(out) :: mats(:)
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: region

@@ -23,7 +23,7 @@ contains
   subroutine build_mesh(comm, cfg, log, dmesh, status)
     type(parallel_comm_t), intent(in) :: comm
     type(mesh_config_t), intent(in) :: cfg
-    type(logger_t), intent(in) :: log
+    type(logger_t), intent(inout) :: log
     type(dist_mesh_t), intent(inout) :: dmesh
     type(error_status_t), intent(inout) :: status
     type(mesh_t) :: gmesh

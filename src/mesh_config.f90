@@ -31,7 +31,7 @@ contains
   subroutine read_mesh_config(self, d, log, status)
     class(mesh_config_t), intent(inout) :: self
     type(deck_t), intent(in) :: d
-    type(logger_t), intent(in) :: log
+    type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     character(len=16) :: source
     character(len=path_len) :: file

@@ -40,7 +40,7 @@ contains
   subroutine read_run_config(self, d, log, status)
     class(run_config_t), intent(inout) :: self
     type(deck_t), intent(in) :: d
-    type(logger_t), intent(in) :: log
+    type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     character(len=128) :: title
     character(len=name_len) :: physics

@@ -37,7 +37,7 @@ contains
   subroutine read_solver_config(self, d, log, status)
     class(solver_config_t), intent(inout) :: self
     type(deck_t), intent(in) :: d
-    type(logger_t), intent(in) :: log
+    type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: method, precon
     real(rp) :: rtol, atol

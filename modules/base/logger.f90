@@ -15,7 +15,11 @@ module logger
 
   type :: logger_t
     integer :: rank = 0
-    integer :: unit = -1            !< log file unit on rank 0, -1 if none
+    integer :: unit = 0             !< log file unit on rank 0 (newunit numbers are negative)
+    logical :: has_file = .false.
+    !> lines logged before the file was opened (written to it when it opens)
+    character(len=msg_len), allocatable :: pending(:)
+    integer :: n_pending = 0
     integer :: verbosity = 1        !< 0 quiet, 1 normal, 2 detailed
   contains
     procedure :: init
@@ -43,43 +47,70 @@ contains
     class(logger_t), intent(inout) :: self
     character(len=*), intent(in) :: path
     integer, intent(out) :: ios
+    integer :: i
     ios = 0
     if (self%rank /= 0) return
     open(newunit=self%unit, file=path, status='replace', action='write', iostat=ios)
-    if (ios /= 0) self%unit = -1
+    self%has_file = ios == 0
+    if (self%has_file) then
+      do i = 1, self%n_pending
+        write(self%unit, '(a)') trim(self%pending(i))
+      end do
+    end if
+    self%n_pending = 0
+    if (allocated(self%pending)) deallocate(self%pending)
   end subroutine open_file
 
   subroutine close(self)
     class(logger_t), intent(inout) :: self
-    if (self%unit >= 0) close(self%unit)
-    self%unit = -1
+    if (self%has_file) close(self%unit)
+    self%has_file = .false.
   end subroutine close
+
+  !> Write a line to the log file, or keep it until the file is opened.
+  subroutine to_file(self, line)
+    class(logger_t), intent(inout) :: self
+    character(len=*), intent(in) :: line
+    character(len=msg_len), allocatable :: tmp(:)
+    if (self%has_file) then
+      write(self%unit, '(a)') trim(line)
+      return
+    end if
+    if (.not. allocated(self%pending)) allocate(self%pending(64))
+    if (self%n_pending == size(self%pending)) then
+      allocate(tmp(2 * size(self%pending)))
+      tmp(1:self%n_pending) = self%pending
+      call move_alloc(tmp, self%pending)
+    end if
+    self%n_pending = self%n_pending + 1
+    self%pending(self%n_pending) = line
+  end subroutine to_file
 
   !> A line for the user (rank 0).
   subroutine info(self, msg)
-    class(logger_t), intent(in) :: self
+    class(logger_t), intent(inout) :: self
     character(len=*), intent(in) :: msg
     if (self%rank /= 0 .or. self%verbosity < 1) return
     write(output_unit, '(a)') trim(msg)
     flush(output_unit)
-    if (self%unit >= 0) write(self%unit, '(a)') trim(msg)
+    call to_file(self, msg)
   end subroutine info
 
   !> A line shown only with verbosity >= 2 (always written to the log file).
   subroutine detail(self, msg)
-    class(logger_t), intent(in) :: self
+    class(logger_t), intent(inout) :: self
     character(len=*), intent(in) :: msg
     if (self%rank /= 0) return
     if (self%verbosity >= 2) write(output_unit, '(a)') trim(msg)
-    if (self%unit >= 0) write(self%unit, '(a)') trim(msg)
+    call to_file(self, msg)
   end subroutine detail
 
   subroutine warn(self, msg)
-    class(logger_t), intent(in) :: self
+    class(logger_t), intent(inout) :: self
     character(len=*), intent(in) :: msg
     if (self%rank /= 0) return
     write(error_unit, '(a)') 'geoblock: warning: '//trim(msg)
-    if (self%unit >= 0) write(self%unit, '(a)') 'warning: '//trim(msg)
+    call to_file(self, 'warning: '//trim(msg))
   end subroutine warn
 
   !> Collective stop: every rank calls it; rank 0 prints, all exit with status 2.
@@ -90,7 +121,7 @@ contains
     if (self%rank == 0) then
       write(error_unit, '(a)') 'geoblock: error: '//trim(msg)
       flush(error_unit)
-      if (self%unit >= 0) write(self%unit, '(a)') 'error: '//trim(msg)
+      if (self%has_file) write(self%unit, '(a)') 'error: '//trim(msg)
     end if
     call self%close()
     call comm%barrier()

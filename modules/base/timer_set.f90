@@ -75,7 +75,7 @@ contains
   subroutine report(self, comm, log)
     class(timer_set_t), intent(in) :: self
     type(parallel_comm_t), intent(in) :: comm
-    type(logger_t), intent(in) :: log
+    type(logger_t), intent(inout) :: log
     integer :: i
     character(len=160) :: line
     call log%info('timing summary (seconds, maximum over ranks)')

@@ -24,13 +24,17 @@
 !>                               displacement component is coarsened on its own.
 !>   hmis + ext+i, p_max_elmts 4, one aggressive level (multipass): hypre's
 !>                               recommended low-complexity 3D set-up.
-!>   strong_threshold 0.8      : the hypre manual suggests 0.5-0.6 for 3D Laplace
+!>   strong_threshold 0.5      : the hypre manual suggests 0.5-0.6 for 3D Laplace
 !>                               and "a large strength threshold, such as 0.9"
-!>                               for elasticity. On Q1 elasticity cubes of 15k
-!>                               and 108k unknowns (PCG to 1e-8) the default
-!>                               0.25 needed 25-30% more iterations than 0.8,
-!>                               and 0.9 was no better than 0.8 while
-!>                               coarsening more slowly.
+!>                               for elasticity. Measured on Q1 elasticity cubes
+!>                               (clamped base, nu = 0.3, these defaults
+!>                               otherwise, PCG to 1e-8, 1 rank) of 15k, 108k,
+!>                               353k and 824k unknowns: 0.5 took 21, 22, 24, 25
+!>                               iterations, 0.8 took 21, 23, 25, 27 with grid
+!>                               complexity 1.45 instead of 1.33 and ~30% more
+!>                               solve time, 0.25 took 25, 29, 31.
+!>   agg_interp_type multipass : hypre's default; 2s-ext+i saved 2-4 iterations
+!>                               in the same runs but not time.
 !>   l1-gs, 1 sweep            : hypre's default smoother, robust in parallel.
 module amg_params
   use kinds, only: rp, name_len
@@ -55,7 +59,7 @@ module amg_params
     character(len=name_len) :: agg_interp_type = 'multipass'
     integer :: agg_p_max_elmts = 0                    !< entries per row, aggressive levels (0: all)
     integer :: num_paths = 1                          !< paths of aggressive coarsening
-    real(rp) :: strong_threshold = 0.8_rp             !< strength of connection
+    real(rp) :: strong_threshold = 0.5_rp             !< strength of connection
     real(rp) :: max_row_sum = 0.9_rp                  !< weakens diagonally dominant rows (1: off)
     integer :: max_levels = 25
     integer :: max_coarse_size = 9                    !< rows of the coarsest level

@@ -173,8 +173,10 @@ contains
     integer(hypre_int), pointer :: f(:)
     type(c_ptr) :: fp
     integer :: down, up, n
+    logical :: no_memory
 
     p = self%params
+    no_memory = .false.
     if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
     self%solver = c_null_ptr
     ierr = HYPRE_ClearAllErrors()
@@ -214,7 +216,13 @@ contains
         f = 0
         f(1:n) = self%dof_func
         ierr = HYPRE_BoomerAMGSetDofFunc(self%solver, fp)
+      else
+        no_memory = .true.
       end if
+    end if
+    if (self%comm%any_true(no_memory)) then
+      call status%set('boomeramg_precon: no memory for the dof_func array of hypre')
+      return
     end if
     ierr = HYPRE_BoomerAMGSetup(self%solver, self%ij%par_a, self%ij%par_b, self%ij%par_x)
     call hypre_check(self%comm, HYPRE_GetError(), 'boomeramg_precon: BoomerAMG set-up', status)

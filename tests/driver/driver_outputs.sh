@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# The program end to end: the Gmsh deck on 2 ranks against the oedometric
+# solution, its output files and log; the matrix export of the cube deck.
+set -u
+cd "$(dirname "$0")/../.."
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+PY=${PYTHON:-/usr/bin/python3}
+out=build/test-out/driver
+rm -rf "$out"; mkdir -p "$out"
+pass=0; fail=0
+ok() { echo "  ok    $1"; pass=$((pass + 1)); }
+ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
+
+# 1. Gmsh mesh, two regions, oedometer
+sed -e "s#dir = 'out'#dir = '$out/gmsh'#" -e "s#rtol = 1.0e-8#rtol = 1.0e-12#" input/gmsh_block.nml > "$out/gmsh.nml"
+if timeout 300 mpirun --oversubscribe -np 2 bin/geoblock "$out/gmsh.nml" > "$out/gmsh.stdout" 2>&1 < /dev/null; then
+  ok "gmsh_block deck runs on 2 ranks"
+else
+  ko "gmsh_block deck fails, see $out/gmsh.stdout"
+fi
+if r=$($PY tests/driver/check_oedometer.py "$out/gmsh" gmsh_block 2>&1); then ok "oedometer: $r"; else ko "oedometer: $r"; fi
+[ -f "$out/gmsh/gmsh_block.xdmf" ] && ok "XDMF written" || ko "no XDMF"
+[ -f "$out/gmsh/gmsh_block_0000.h5" ] && [ -f "$out/gmsh/gmsh_block_mesh.h5" ] && ok "HDF5 mesh and step files" \
+  || ko "HDF5 files missing"
+log="$out/gmsh/gmsh_block.log"
+if [ -f "$log" ] && grep -q "STRONG_THRESHOLD" "$log" && grep -q "YOUNG" "$log" && grep -q "^step 1/1" "$log" \
+   && grep -q "timing summary" "$log"; then
+  ok "log file has the deck echo, the progress line and the timing summary"
+else
+  ko "log file incomplete: $log"
+fi
+grep -q "^step 1/1 .*iterations" "$out/gmsh.stdout" && ok "progress line on stdout" || ko "no progress line on stdout"
+
+# 2. matrix export of a small cube
+cat > "$out/export.nml" <<DECK
+&mesh
+  source = 'box', nx = 3, ny = 2, nz = 2
+/
+&material
+  region = 'domain', young = 1.0e9, poisson = 0.3
+/
+&boundary
+  set = 'xmin', type = 'displacement', ux = 0, uy = 0, uz = 0
+/
+&boundary
+  set = 'xmax', type = 'traction', traction = 0, 0, -1.0e5
+/
+&output
+  dir = '$out/export', prefix = 'cube', fields = .false., export_matrix = .true.
+/
+DECK
+if timeout 120 mpirun --oversubscribe -np 2 bin/geoblock "$out/export.nml" > "$out/export.stdout" 2>&1 < /dev/null; then
+  ok "export deck runs"
+else
+  ko "export deck fails, see $out/export.stdout"
+fi
+if r=$($PY - "$out/export/cube_K.mtx" "$out/export/cube_rhs.mtx" <<'PY' 2>&1
+import sys
+import numpy as np
+rows = open(sys.argv[1]).read().split("\n")
+assert rows[0].startswith("%%MatrixMarket matrix coordinate real general")
+n, m, nnz = map(int, rows[2].split())
+entries = np.array([list(map(float, r.split())) for r in rows[3:] if r.strip()])
+assert n == m == 108 and len(entries) == nnz, (n, m, nnz, len(entries))
+a = np.zeros((n, n))
+a[entries[:, 0].astype(int) - 1, entries[:, 1].astype(int) - 1] = entries[:, 2]
+assert np.allclose(a, a.T, rtol=0, atol=1e-9 * abs(a).max()), "not symmetric"
+assert np.all(np.linalg.eigvalsh(a) > 0), "not positive definite"
+b = np.loadtxt(sys.argv[2], comments="%", skiprows=3)
+assert len(b) == n, len(b)
+x = np.linalg.solve(a, b)
+print(f"{n} x {m}, {nnz} non-zeros, symmetric positive definite, max |u| {abs(x).max():.3e}")
+PY
+); then ok "MatrixMarket export: $r"; else ko "MatrixMarket export: $r"; fi
+grep -q "max |u| = " "$out/export.stdout" && ok "summary line" || ko "no summary line"
+echo "suite driver_outputs: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
