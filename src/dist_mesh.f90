@@ -99,7 +99,7 @@ contains
     do c = 1, gmesh%n_cells
       is_local(c) = part(c) == me .or. any(touched(gmesh%cell_nodes(:, c)))
     end do
-    lcells = ordered_local(is_local, part == me, cell_gid)
+    call ordered_local(is_local, part == me, cell_gid, lcells)
     nown = count(part == me)
     self%n_cells = size(lcells, kind=ip)
     call self%cell_map%init(comm, nown, cell_gid(lcells(nown+1:)))
@@ -109,7 +109,7 @@ contains
     do i = 1, self%n_cells
       touched(gmesh%cell_nodes(:, lcells(i))) = .true.
     end do
-    lnodes = ordered_local(touched, node_owner == me, node_gid)
+    call ordered_local(touched, node_owner == me, node_gid, lnodes)
     nown = count(node_owner == me)
     self%n_nodes = size(lnodes, kind=ip)
     call self%node_map%init(comm, nown, node_gid(lnodes(nown+1:)))
@@ -121,7 +121,7 @@ contains
     do i = 1, self%n_cells
       is_local(gmesh%cell_faces(:, lcells(i))) = .true.
     end do
-    lfaces = ordered_local(is_local, face_owner == me, face_gid)
+    call ordered_local(is_local, face_owner == me, face_gid, lfaces)
     nown = count(face_owner == me)
     self%n_faces = size(lfaces, kind=ip)
     call self%face_map%init(comm, nown, face_gid(lfaces(nown+1:)))
@@ -215,10 +215,10 @@ contains
 
   !> Original ids of the local entities: owned ones first, then ghosts in
   !> ascending global id.
-  function ordered_local(is_local, is_owned, gid) result(ids)
+  subroutine ordered_local(is_local, is_owned, gid, ids)
     logical, intent(in) :: is_local(:), is_owned(:)
     integer(gp), intent(in) :: gid(:)
-    integer(ip), allocatable :: ids(:)
+    integer(ip), allocatable, intent(out) :: ids(:)
     integer(ip), allocatable :: ghosts(:), pos(:)
     integer(gp), allocatable :: key(:)
     integer(ip) :: i, k, nown, ngh
@@ -242,7 +242,7 @@ contains
     end do
     call sort_by_key(key, pos)
     ids(nown+1:) = ghosts(pos)
-  end function ordered_local
+  end subroutine ordered_local
 
   subroutine sort_by_key(key, pos)
     use index_map, only: sort_gids

@@ -68,6 +68,7 @@ contains
       end do
       eptr(r + 1) = k + 1
     end do
+    allocate(ecol(k))
     ecol = adj(1:k)
     ! expand to dofs
     ndof_rows = nr * n_row_owned
