@@ -14,6 +14,8 @@ module dist_mesh
   use error_status, only: error_status_t
   use index_map, only: index_map_t
   use mesh, only: mesh_t
+  use quadrature, only: gauss_hex
+  use hex_q1, only: hex_gradients
   implicit none
   private
 
@@ -357,24 +359,13 @@ contains
   real(rp) function cell_volume(self, c)
     class(dist_mesh_t), intent(in) :: self
     integer(ip), intent(in) :: c
-    real(rp), parameter :: g = 0.577350269189625764509148780502_rp
-    real(rp), parameter :: s(3, 8) = reshape([ &
-      -1, -1, -1,  1, -1, -1,  1, 1, -1,  -1, 1, -1, &
-      -1, -1,  1,  1, -1,  1,  1, 1,  1,  -1, 1,  1], [3, 8])
-    real(rp) :: x(3, 8), dn(3, 8), j(3, 3), xi(3)
-    integer :: q, a
-    x = self%coords(:, self%cell_nodes(:, c))
+    real(rp) :: xi(3, 8), w(8), n(8), g(3, 8), det
+    integer :: q
+    call gauss_hex(2_ip, xi, w)
     cell_volume = 0.0_rp
     do q = 1, 8
-      xi = g * s(:, q)
-      do a = 1, 8
-        dn(1, a) = 0.125_rp * s(1, a) * (1 + s(2, a) * xi(2)) * (1 + s(3, a) * xi(3))
-        dn(2, a) = 0.125_rp * s(2, a) * (1 + s(1, a) * xi(1)) * (1 + s(3, a) * xi(3))
-        dn(3, a) = 0.125_rp * s(3, a) * (1 + s(1, a) * xi(1)) * (1 + s(2, a) * xi(2))
-      end do
-      j = matmul(x, transpose(dn))
-      cell_volume = cell_volume + (j(1,1)*(j(2,2)*j(3,3)-j(2,3)*j(3,2)) - j(1,2)*(j(2,1)*j(3,3)-j(2,3)*j(3,1)) &
-                    + j(1,3)*(j(2,1)*j(3,2)-j(2,2)*j(3,1)))
+      call hex_gradients(self%coords(:, self%cell_nodes(:, c)), xi(:, q), n, g, det)
+      cell_volume = cell_volume + det * w(q)
     end do
   end function cell_volume
 

@@ -8,6 +8,7 @@
 module mesh
   use kinds, only: rp, ip, name_len, msg_len
   use error_status, only: error_status_t
+  use hex_q1, only: hex_gradients
   implicit none
   private
 
@@ -230,7 +231,7 @@ contains
     type(error_status_t), intent(inout) :: status
     integer(ip) :: c, k
     character(len=msg_len) :: m
-    real(rp) :: x(3, 8), j(3, 3), det
+    real(rp) :: x(3, 8), n(8), g(3, 8), det
     real(rp), parameter :: corner(3, 9) = reshape([ &
       -1, -1, -1,  1, -1, -1,  1, 1, -1,  -1, 1, -1, &
       -1, -1,  1,  1, -1,  1,  1, 1,  1,  -1, 1,  1,  0, 0, 0], [3, 9])
@@ -246,9 +247,7 @@ contains
       end if
       x = self%coords(:, self%cell_nodes(:, c))
       do k = 1, 9
-        j = hex_jacobian(x, corner(:, k))
-        det = j(1,1)*(j(2,2)*j(3,3)-j(2,3)*j(3,2)) - j(1,2)*(j(2,1)*j(3,3)-j(2,3)*j(3,1)) &
-            + j(1,3)*(j(2,1)*j(3,2)-j(2,2)*j(3,1))
+        call hex_gradients(x, corner(:, k), n, g, det)
         if (det <= 0.0_rp) then
           write(m, '(a,i0,a)') 'mesh: cell ', c, ' is inverted or degenerate (non-positive Jacobian)'
           call status%set(m)
@@ -257,22 +256,6 @@ contains
       end do
     end do
   end subroutine check
-
-  !> Jacobian dx/dxi of the trilinear map at reference point xi.
-  pure function hex_jacobian(x, xi) result(j)
-    real(rp), intent(in) :: x(3, 8), xi(3)
-    real(rp) :: j(3, 3), dn(3, 8)
-    real(rp), parameter :: s(3, 8) = reshape([ &
-      -1, -1, -1,  1, -1, -1,  1, 1, -1,  -1, 1, -1, &
-      -1, -1,  1,  1, -1,  1,  1, 1,  1,  -1, 1,  1], [3, 8])
-    integer :: a
-    do a = 1, 8
-      dn(1, a) = 0.125_rp * s(1, a) * (1 + s(2, a) * xi(2)) * (1 + s(3, a) * xi(3))
-      dn(2, a) = 0.125_rp * s(2, a) * (1 + s(1, a) * xi(1)) * (1 + s(3, a) * xi(3))
-      dn(3, a) = 0.125_rp * s(3, a) * (1 + s(1, a) * xi(1)) * (1 + s(2, a) * xi(2))
-    end do
-    j = matmul(x, transpose(dn))
-  end function hex_jacobian
 
   !> Index of the named tagged-surface set, 0 if none has that name.
   integer(ip) function set_id(self, name)

@@ -12,7 +12,7 @@ module index_map
   implicit none
   private
 
-  public :: index_map_t, sort_gids
+  public :: index_map_t, sort_gids, rank_of
 
   type :: index_map_t
     type(parallel_comm_t) :: comm
@@ -188,19 +188,27 @@ contains
   integer(ip) function owner_of(self, g)
     class(index_map_t), intent(in) :: self
     integer(gp), intent(in) :: g
+    owner_of = rank_of(self%offsets, g)
+  end function owner_of
+
+  !> Rank owning global id g under contiguous ownership: offsets(0:np) holds
+  !> the first global id of each rank (offsets(np) = n_global + 1).
+  pure integer(ip) function rank_of(offsets, g)
+    integer(gp), intent(in) :: offsets(0:)
+    integer(gp), intent(in) :: g
     integer(ip) :: lo, hi, mid
     lo = 0
-    hi = int(size(self%offsets), ip) - 2
+    hi = int(ubound(offsets, 1), ip) - 1
     do while (lo < hi)
       mid = (lo + hi + 1) / 2
-      if (self%offsets(mid) <= g) then
+      if (offsets(mid) <= g) then
         lo = mid
       else
         hi = mid - 1
       end if
     end do
-    owner_of = lo
-  end function owner_of
+    rank_of = lo
+  end function rank_of
 
   !> Fill the ghost part of x (size n_local) with the owners' values.
   subroutine import(self, x)

@@ -26,6 +26,7 @@ module mumps_solver
   use parallel_comm, only: parallel_comm_t, wall_time
   use error_status, only: error_status_t
   use csr_matrix, only: csr_matrix_t
+  use index_map, only: rank_of
   use precon, only: precon_t
   implicit none
   private
@@ -377,7 +378,7 @@ contains
     allocate(dest(self%n_sol), self%send_pos(self%n_sol), sgid(self%n_sol))
     self%send_count = 0
     do k = 1, self%n_sol
-      dest(k) = owner_of(self%offsets, int(self%id%ISOL_loc(k), gp))
+      dest(k) = rank_of(self%offsets, int(self%id%ISOL_loc(k), gp))
       self%send_count(dest(k)) = self%send_count(dest(k)) + 1
     end do
     start(0) = 0
@@ -405,24 +406,6 @@ contains
     end if
     self%plan_ready = .true.
   end subroutine build_plan
-
-  !> Rank owning global row g, from the (0:size) table of first rows.
-  integer(ip) function owner_of(offsets, g)
-    integer(gp), intent(in) :: offsets(0:)
-    integer(gp), intent(in) :: g
-    integer(ip) :: lo, hi, mid
-    lo = 0
-    hi = int(ubound(offsets, 1), ip) - 1
-    do while (lo < hi)
-      mid = (lo + hi + 1) / 2
-      if (offsets(mid) <= g) then
-        lo = mid
-      else
-        hi = mid - 1
-      end if
-    end do
-    owner_of = lo
-  end function owner_of
 
   !> z = A^-1 r (the exact preconditioner). precon_t%apply has no status,
   !> so a MUMPS failure here stops the program (on every rank: INFOG is global).

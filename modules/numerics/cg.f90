@@ -42,23 +42,8 @@ contains
     real(rp), intent(in), optional :: rtol, atol
     integer, intent(in), optional :: max_iter
     type(error_status_t), intent(inout), optional :: status
-    character(len=msg_len) :: m
 
-    self%comm = comm
-    if (present(rtol)) self%rtol = rtol
-    if (present(atol)) self%atol = atol
-    if (present(max_iter)) self%max_iter = max_iter
-    m = ''
-    if (.not. (self%rtol >= 0.0_rp .and. self%atol >= 0.0_rp)) then
-      write(m, '(a,es10.3,a,es10.3,a)') 'cg%init: rtol = ', self%rtol, ' and atol = ', self%atol, &
-        ' must be >= 0'
-    else if (self%max_iter < 0) then
-      write(m, '(a,i0,a)') 'cg%init: max_iter = ', self%max_iter, ' must be >= 0'
-    end if
-    if (len_trim(m) > 0) then
-      if (.not. present(status)) error stop 'cg%init: bad parameters (see the status message)'
-      call status%set(trim(m))
-    end if
+    if (.not. self%configure(comm, rtol, atol, max_iter, status)) return
   end subroutine cg_init
 
   function cg_name(self) result(s)

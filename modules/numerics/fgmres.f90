@@ -59,25 +59,12 @@ contains
     integer, intent(in), optional :: max_iter, restart
     type(error_status_t), intent(inout), optional :: status
     character(len=msg_len) :: m
-
-    self%comm = comm
-    if (present(rtol)) self%rtol = rtol
-    if (present(atol)) self%atol = atol
-    if (present(max_iter)) self%max_iter = max_iter
+    if (.not. self%configure(comm, rtol, atol, max_iter, status)) return
     if (present(restart)) self%restart = restart
-    m = ''
-    if (.not. (self%rtol >= 0.0_rp .and. self%atol >= 0.0_rp)) then
-      write(m, '(a,es10.3,a,es10.3,a)') 'fgmres%init: rtol = ', self%rtol, ' and atol = ', self%atol, &
-        ' must be >= 0'
-    else if (self%max_iter < 0) then
-      write(m, '(a,i0,a)') 'fgmres%init: max_iter = ', self%max_iter, ' must be >= 0'
-    else if (self%restart < 1) then
-      write(m, '(a,i0,a)') 'fgmres%init: restart = ', self%restart, ' must be >= 1'
-    end if
-    if (len_trim(m) > 0) then
-      if (.not. present(status)) error stop 'fgmres%init: bad parameters (see the status message)'
-      call status%set(trim(m))
-    end if
+    if (self%restart >= 1) return
+    write(m, '(a,i0,a)') 'fgmres%init: restart = ', self%restart, ' must be >= 1'
+    if (.not. present(status)) error stop 'fgmres%init: bad parameters (see the status message)'
+    call status%set(trim(m))
   end subroutine fgmres_init
 
   function fgmres_name(self) result(s)

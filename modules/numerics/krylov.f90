@@ -2,6 +2,7 @@
 module krylov
   use kinds, only: rp, ip, name_len, msg_len
   use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
   use linear_operator, only: linear_operator_t
   use precon, only: precon_t
   implicit none
@@ -29,6 +30,7 @@ module krylov
   contains
     procedure(solve_iface), deferred :: solve
     procedure(name_iface), deferred :: name
+    procedure :: configure
   end type krylov_t
 
   abstract interface
@@ -48,4 +50,35 @@ module krylov
       character(len=name_len) :: s
     end function name_iface
   end interface
+contains
+
+  !> Set the communicator and the parameters common to every Krylov method.
+  !> rtol, atol: tolerances of the residual norm (relative to ||b||,
+  !> absolute); max_iter: total iterations. Omitted values keep the defaults.
+  !> Bad values (rtol or atol < 0, max_iter < 0) set status, or stop when
+  !> status is absent (the deck readers range-check first, so then it is a
+  !> programming error). Returns .false. on a bad value.
+  logical function configure(self, comm, rtol, atol, max_iter, status)
+    class(krylov_t), intent(inout) :: self
+    type(parallel_comm_t), intent(in) :: comm
+    real(rp), intent(in), optional :: rtol, atol
+    integer, intent(in), optional :: max_iter
+    type(error_status_t), intent(inout), optional :: status
+    character(len=msg_len) :: m
+    self%comm = comm
+    if (present(rtol)) self%rtol = rtol
+    if (present(atol)) self%atol = atol
+    if (present(max_iter)) self%max_iter = max_iter
+    m = ''
+    if (.not. (self%rtol >= 0.0_rp .and. self%atol >= 0.0_rp)) then
+      write(m, '(a,es10.3,a,es10.3,a)') trim(self%name())//'%init: rtol = ', self%rtol, ' and atol = ', &
+        self%atol, ' must be >= 0'
+    else if (self%max_iter < 0) then
+      write(m, '(a,i0,a)') trim(self%name())//'%init: max_iter = ', self%max_iter, ' must be >= 0'
+    end if
+    configure = len_trim(m) == 0
+    if (configure) return
+    if (.not. present(status)) error stop 'krylov%init: bad parameters'
+    call status%set(trim(m))
+  end function configure
 end module krylov
