@@ -22,7 +22,7 @@
 !> Defaults and why:
 !>   num_functions 3, nodal 0  : the "unknown approach" for elasticity; each
 !>                               displacement component is coarsened on its own.
-!>   hmis + ext+i, p_max_elmts 4, one aggressive level (multipass): hypre's
+!>   hmis + ext+i, p_max_elmts 4, one aggressive level: hypre's
 !>                               recommended low-complexity 3D set-up.
 !>   strong_threshold 0.5      : the hypre manual suggests 0.5-0.6 for 3D Laplace
 !>                               and "a large strength threshold, such as 0.9"
@@ -33,8 +33,14 @@
 !>                               iterations, 0.8 took 21, 23, 25, 27 with grid
 !>                               complexity 1.45 instead of 1.33 and ~30% more
 !>                               solve time, 0.25 took 25, 29, 31.
-!>   agg_interp_type multipass : hypre's default; 2s-ext+i saved 2-4 iterations
-!>                               in the same runs but not time.
+!>   agg_interp_type 2s-ext+i  : on the benchmark cube (clamped x = 0, shear
+!>                               traction on x = 1, nu = 0.25, CG to 1e-8) at
+!>                               824k unknowns it took 21 iterations and 13.5 s
+!>                               to solve on 1 rank against 27 and 17.0 s with
+!>                               hypre's default multipass (set-up 4.5 s vs
+!>                               3.4 s); 2 ranks: 24 against 26. With multipass
+!>                               the count grew 1.35x from 15k to 824k, with
+!>                               2s-ext+i 1.11x.
 !>   l1-gs, 1 sweep            : hypre's default smoother, robust in parallel.
 module amg_params
   use kinds, only: rp, name_len
@@ -56,7 +62,7 @@ module amg_params
     integer :: p_max_elmts = 4                        !< interpolation entries per row (0: all)
     real(rp) :: trunc_factor = 0.0_rp                 !< interpolation truncation factor
     integer :: agg_num_levels = 1                     !< levels of aggressive coarsening
-    character(len=name_len) :: agg_interp_type = 'multipass'
+    character(len=name_len) :: agg_interp_type = '2s-ext+i'
     integer :: agg_p_max_elmts = 0                    !< entries per row, aggressive levels (0: all)
     integer :: num_paths = 1                          !< paths of aggressive coarsening
     real(rp) :: strong_threshold = 0.5_rp             !< strength of connection
