@@ -22,25 +22,25 @@
 !> Defaults and why:
 !>   num_functions 3, nodal 0  : the "unknown approach" for elasticity; each
 !>                               displacement component is coarsened on its own.
-!>   hmis + ext+i, p_max_elmts 4, one aggressive level: hypre's
-!>                               recommended low-complexity 3D set-up.
+!>   hmis + ext+i, one aggressive level (multipass): hypre's recommended
+!>                               low-complexity 3D set-up.
+!>   p_max_elmts 6             : on the benchmark cube (clamped x = 0, shear
+!>                               traction on x = 1, nu = 0.25, CG to 1e-8, 1 rank)
+!>                               at 15k, 108k, 824k unknowns: 20, 21, 23
+!>                               iterations (growth 1.15x) and 13.9 s to solve
+!>                               at 824k, against 20, 22, 27 (1.35x) and 17.0 s
+!>                               with 4. 2s-ext+i on the aggressive level gave 21
+!>                               at 824k but made CG stagnate on a 4^3 mesh with
+!>                               Dirichlet rows, so it is not the default.
 !>   strong_threshold 0.5      : the hypre manual suggests 0.5-0.6 for 3D Laplace
 !>                               and "a large strength threshold, such as 0.9"
 !>                               for elasticity. Measured on Q1 elasticity cubes
-!>                               (clamped base, nu = 0.3, these defaults
-!>                               otherwise, PCG to 1e-8, 1 rank) of 15k, 108k,
+!>                               (clamped base, nu = 0.3, p_max_elmts 4, the
+!>                               other defaults, PCG to 1e-8, 1 rank) of 15k, 108k,
 !>                               353k and 824k unknowns: 0.5 took 21, 22, 24, 25
 !>                               iterations, 0.8 took 21, 23, 25, 27 with grid
 !>                               complexity 1.45 instead of 1.33 and ~30% more
 !>                               solve time, 0.25 took 25, 29, 31.
-!>   agg_interp_type 2s-ext+i  : on the benchmark cube (clamped x = 0, shear
-!>                               traction on x = 1, nu = 0.25, CG to 1e-8) at
-!>                               824k unknowns it took 21 iterations and 13.5 s
-!>                               to solve on 1 rank against 27 and 17.0 s with
-!>                               hypre's default multipass (set-up 4.5 s vs
-!>                               3.4 s); 2 ranks: 24 against 26. With multipass
-!>                               the count grew 1.35x from 15k to 824k, with
-!>                               2s-ext+i 1.11x.
 !>   l1-gs, 1 sweep            : hypre's default smoother, robust in parallel.
 module amg_params
   use kinds, only: rp, name_len
@@ -59,10 +59,10 @@ module amg_params
     integer :: nodal = 0                              !< 0 unknown approach; 1-4, 6 nodal norms
     character(len=name_len) :: coarsen_type = 'hmis'
     character(len=name_len) :: interp_type = 'ext+i'
-    integer :: p_max_elmts = 4                        !< interpolation entries per row (0: all)
+    integer :: p_max_elmts = 6                        !< interpolation entries per row (0: all)
     real(rp) :: trunc_factor = 0.0_rp                 !< interpolation truncation factor
     integer :: agg_num_levels = 1                     !< levels of aggressive coarsening
-    character(len=name_len) :: agg_interp_type = '2s-ext+i'
+    character(len=name_len) :: agg_interp_type = 'multipass'
     integer :: agg_p_max_elmts = 0                    !< entries per row, aggressive levels (0: all)
     integer :: num_paths = 1                          !< paths of aggressive coarsening
     real(rp) :: strong_threshold = 0.5_rp             !< strength of connection

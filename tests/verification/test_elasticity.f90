@@ -249,7 +249,7 @@ contains
     call phys%assemble(mesh, 1.0_rp, body=f, dirichlet=uex)
     allocate(x(phys%u%n_owned()), u(phys%u%n_local()))
     call solve(phys, 'cg', 1.0e-12_rp, x, info)
-    call suite%assert_true(info%converged, 'MMS n = '//trim(itoa(n))//' solve converged')
+    call suite%assert_true(info%converged, 'MMS n = '//trim(itoa(n))//' solve converged '//trim(info%msg))
     u(1:size(x)) = x
     call phys%u%map%import(u)
     call gauss_hex(3_ip, xi, w)
