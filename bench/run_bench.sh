@@ -13,8 +13,8 @@ solvers=${3:-"amg mumps"}
 out=build/bench
 mkdir -p "$out"
 table=$out/elasticity.md
-echo "| n | unknowns | ranks | solver | iterations | setup [s] | solve [s] | peak memory [MB] |" > "$table"
-echo "|---|---|---|---|---|---|---|---|" >> "$table"
+echo "| n | unknowns | ranks | solver | iterations | setup [s] | solve [s] | MUMPS peak, all ranks [MB] | max RSS of a rank [MB] |" > "$table"
+echo "|---|---|---|---|---|---|---|---|---|" >> "$table"
 for n in $sizes; do
   for np in $ranks; do
     for s in $solvers; do
@@ -54,8 +54,9 @@ DECK
       solve=$(grep -m1 '^step 1/' "$log" | sed -E 's/.*solve +([0-9.]+) s.*/\1/')
       mem=$(grep -m1 'MUMPS:' "$log" | sed -E 's/.*peak memory ([0-9]+) MB \(max over ranks\), ([0-9]+) MB.*/\2/')
       rss=$(grep -m1 'Maximum resident set size' "$log" | awk '{print int($NF/1024)}')
-      [ -z "$mem" ] && mem="rss $rss"
-      printf '| %s | %s | %s | %s | %s | %s | %s | %s |\n' "$n" "$dofs" "$np" "$s" "$its" "$setup" "$solve" "$mem" | tee -a "$table"
+      [ -z "$mem" ] && mem="-"
+      printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$n" "$dofs" "$np" "$s" "$its" "$setup" "$solve" "$mem" "$rss" \
+        | tee -a "$table"
     done
   done
 done
