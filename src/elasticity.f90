@@ -37,6 +37,8 @@ module elasticity
   contains
     procedure :: init
     procedure :: assemble
+    procedure :: assemble_into
+    procedure :: element_stiffness
     procedure :: cell_stress
     procedure :: free
   end type elasticity_t
@@ -139,35 +141,76 @@ contains
     self%trac_value = self%trac_value(:, 1:nt)
   end subroutine init
 
-  !> Assemble K and the right-hand side at load factor lf (loads and prescribed
-  !> displacements scaled by lf). Optional body (added to the materials' body
-  !> forces) and dirichlet (replacing the prescribed values) are functions of
-  !> position, for manufactured solutions. Collective.
+  !> Assemble the stiffness self%k and right-hand side self%rhs (see assemble_into).
   subroutine assemble(self, mesh, lf, body, dirichlet)
     class(elasticity_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), intent(in) :: lf
     class(vector_function_t), intent(in), optional :: body, dirichlet
+    call self%assemble_into(mesh, lf, self%k, self%rhs, body=body, dirichlet=dirichlet)
+  end subroutine assemble
+
+  !> Element stiffness ke(24,24) of local cell c (dofs node by node, x y z).
+  subroutine element_stiffness(self, mesh, c, ke)
+    class(elasticity_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: c
+    real(rp), intent(out) :: ke(24, 24)
+    real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, lam, mu
+    integer(ip) :: q, a, bb, i, j, r
+    call gauss_hex(2_ip, xi, w)
+    x = mesh%coords(:, mesh%cell_nodes(:, c))
+    r = mesh%cell_region(c)
+    lam = self%lambda(r)
+    mu = self%mu(r)
+    ke = 0.0_rp
+    do q = 1, 8
+      call hex_gradients(x, xi(:, q), n, g, det)
+      det = det * w(q)
+      do bb = 1, 8
+        do a = 1, 8
+          do j = 1, 3
+            do i = 1, 3
+              ke(3*(a-1)+i, 3*(bb-1)+j) = ke(3*(a-1)+i, 3*(bb-1)+j) + det * &
+                (lam * g(i, a) * g(j, bb) + mu * g(j, a) * g(i, bb))
+            end do
+            ke(3*(a-1)+j, 3*(bb-1)+j) = ke(3*(a-1)+j, 3*(bb-1)+j) + det * mu * dot_product(g(:, a), g(:, bb))
+          end do
+        end do
+      end do
+    end do
+  end subroutine element_stiffness
+
+  !> Assemble K into k (pattern of self%k) and the right-hand side into rhs
+  !> (owned dofs) at load factor lf (loads and prescribed displacements scaled
+  !> by lf). Optional body (added to the materials' body forces) and dirichlet
+  !> (replacing the prescribed values) are functions of position, for
+  !> manufactured solutions. Collective.
+  subroutine assemble_into(self, mesh, lf, k, rhs, body, dirichlet)
+    class(elasticity_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: lf
+    type(csr_matrix_t), intent(inout) :: k
+    real(rp), intent(out) :: rhs(:)
+    class(vector_function_t), intent(in), optional :: body, dirichlet
     real(rp), allocatable :: f_loc(:)
     real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, ke(24, 24), fe(24), ue(24), xq(3), bf(3)
-    real(rp) :: lam, mu, xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), da
-    integer(ip) :: c, q, a, bb, i, j, dofs(24), r, t, f, nown
+    real(rp) :: xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), da
+    integer(ip) :: c, q, a, i, j, dofs(24), r, t, f, nown
     type(parallel_comm_t) :: comm
     real(rp) :: dsum, dcount
 
-    call self%k%zero()
+    call k%zero()
     allocate(f_loc(self%u%n_local()))
     f_loc = 0.0_rp
     call gauss_hex(2_ip, xi, w)
     do c = 1, mesh%cell_map%n_owned
       x = mesh%coords(:, mesh%cell_nodes(:, c))
       r = mesh%cell_region(c)
-      lam = self%lambda(r)
-      mu = self%mu(r)
       do a = 1, 8
-        dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1, 2, 3])
+        dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
       end do
-      ke = 0.0_rp
+      call self%element_stiffness(mesh, c, ke)
       fe = 0.0_rp
       do q = 1, 8
         call hex_gradients(x, xi(:, q), n, g, det)
@@ -179,15 +222,6 @@ contains
         end if
         do a = 1, 8
           fe(3*a-2:3*a) = fe(3*a-2:3*a) + n(a) * bf * det
-          do bb = 1, 8
-            do j = 1, 3
-              do i = 1, 3
-                ke(3*(a-1)+i, 3*(bb-1)+j) = ke(3*(a-1)+i, 3*(bb-1)+j) + det * &
-                  (lam * g(i, a) * g(j, bb) + mu * g(j, a) * g(i, bb))
-              end do
-              ke(3*(a-1)+j, 3*(bb-1)+j) = ke(3*(a-1)+j, 3*(bb-1)+j) + det * mu * dot_product(g(:, a), g(:, bb))
-            end do
-          end do
         end do
       end do
       fe = lf * fe
@@ -202,7 +236,7 @@ contains
         ke(j, :) = 0.0_rp
         fe(j) = 0.0_rp
       end do
-      call self%k%add_block(dofs, dofs, ke)
+      call k%add_block(dofs, dofs, ke)
       f_loc(dofs) = f_loc(dofs) + fe
     end do
 
@@ -223,10 +257,10 @@ contains
       end do
     end do
 
-    call self%k%finalize_assembly()
+    call k%finalize_assembly()
     call self%u%map%export_add(f_loc)
     nown = self%u%n_owned()
-    self%rhs = f_loc(1:nown)
+    rhs = f_loc(1:nown)
 
     ! prescribed rows: mean diagonal of the free rows, scaled value
     comm = mesh%comm
@@ -234,7 +268,7 @@ contains
     dcount = 0.0_rp
     do i = 1, nown
       if (self%fixed(i)) cycle
-      dsum = dsum + self%k%val(self%k%find(i, i))
+      dsum = dsum + k%val(k%find(i, i))
       dcount = dcount + 1.0_rp
     end do
     dsum = comm%sum(dsum)
@@ -243,10 +277,10 @@ contains
     if (dcount > 0.0_rp) self%diag_scale = dsum / dcount
     do i = 1, nown
       if (.not. self%fixed(i)) cycle
-      self%k%val(self%k%find(i, i)) = self%diag_scale
+      k%val(k%find(i, i)) = self%diag_scale
       a = (i - 1) / 3 + 1
       j = mod(i - 1, 3) + 1
-      self%rhs(i) = self%diag_scale * prescribed(i, mesh%coords(:, a), j)
+      rhs(i) = self%diag_scale * prescribed(i, mesh%coords(:, a), j)
     end do
   contains
     real(rp) function prescribed(dof, xn, comp)
@@ -260,7 +294,7 @@ contains
         prescribed = lf * self%fixed_value(dof)
       end if
     end function prescribed
-  end subroutine assemble
+  end subroutine assemble_into
 
   !> Cauchy stress at the centre of each owned cell, from the displacement
   !> u_loc (all local dofs, ghosts up to date). Components in the XDMF Tensor6
