@@ -5,7 +5,12 @@
 !>   ux, uy, uz   prescribed displacement components [m]; a component left
 !>                out is free                                              [free]
 !>   traction(3)  prescribed traction vector [Pa], for type = 'traction'   [required]
-!> Loads are scaled by the load factor of the step (see &time).
+!>   type = 'pressure' (biot): pressure  prescribed fluid pressure [Pa]     [required]
+!>   type = 'flux' (biot):     flux      prescribed outward normal Darcy
+!>                             flux [m/s]                                  [required]
+!> Boundary faces with neither a pressure nor a flux condition are
+!> impermeable (no flow). Elasticity loads are scaled by the load factor of
+!> the step (see &time); poromechanics applies them in full from t = 0+.
 module boundary_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -33,16 +38,17 @@ contains
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: set
     character(len=16) :: type
-    real(rp) :: ux, uy, uz, traction(3)
+    real(rp) :: ux, uy, uz, traction(3), pressure, flux
     integer :: k, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(16)
-    namelist /boundary/ set, type, ux, uy, uz, traction
+    namelist /boundary/ set, type, ux, uy, uz, traction, pressure, flux
 
     allocate(bcs(d%count('boundary')))
     do k = 1, size(bcs)
       set = ''; type = ''; ux = unset_real; uy = unset_real; uz = unset_real; traction = unset_real
+      pressure = unset_real; flux = unset_real
       call d%block('boundary', k, b)
       read(b, nml=boundary, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -66,11 +72,22 @@ contains
         if (any([ux, uy, uz] /= unset_real)) &
           call d%fail(status, 'boundary', k, 'ux', "ux, uy, uz are not used with type = 'traction'")
         bcs(k)%value = traction
+      case ('pressure')
+        if (pressure == unset_real) call d%fail(status, 'boundary', k, 'pressure', "required with type = 'pressure'")
+        bcs(k)%value = [pressure, 0.0_rp, 0.0_rp]
+      case ('flux')
+        if (flux == unset_real) call d%fail(status, 'boundary', k, 'flux', "required with type = 'flux'")
+        bcs(k)%value = [flux, 0.0_rp, 0.0_rp]
       case ('')
-        call d%fail(status, 'boundary', k, 'type', "required: 'displacement' or 'traction'")
+        call d%fail(status, 'boundary', k, 'type', "required: 'displacement', 'traction', 'pressure' or 'flux'")
       case default
-        call d%fail(status, 'boundary', k, 'type', "must be 'displacement' or 'traction' (got '"//trim(type)//"')")
+        call d%fail(status, 'boundary', k, 'type', "must be 'displacement', 'traction', 'pressure' or 'flux' (got '"// &
+                    trim(type)//"')")
       end select
+      if (type /= 'pressure' .and. pressure /= unset_real) &
+        call d%fail(status, 'boundary', k, 'pressure', "only used with type = 'pressure'")
+      if (type /= 'flux' .and. flux /= unset_real) &
+        call d%fail(status, 'boundary', k, 'flux', "only used with type = 'flux'")
       if (.not. status%ok()) return
       echo = ''
       write(echo, nml=boundary, iostat=ios)

@@ -62,6 +62,10 @@ contains
     if (status%ok()) call read_amg_config(d, log, amg, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
 
+    do c = 1, size(bcs)
+      if (bcs(c)%type == 'pressure' .or. bcs(c)%type == 'flux') call log%fatal(comm, "&boundary on set '"// &
+        trim(bcs(c)%set)//"': type = '"//trim(bcs(c)%type)//"' needs physics = 'biot' in &run")
+    end do
     call timers%start('mesh')
     call build_mesh(comm, mcfg, log, mesh, status)
     call timers%stop('mesh')

@@ -111,7 +111,7 @@ contains
             self%fixed_value(self%u%dof(mesh%set_nodes(i), c)) = bcs(b)%value(c)
           end do
         end do
-      else
+      else if (bcs(b)%type == 'traction') then
         do i = 1, mesh%n_sfaces
           if (mesh%sface_set(i) == s) nt = nt + 1
         end do

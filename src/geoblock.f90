@@ -11,6 +11,7 @@ program geoblock
   use deck, only: deck_t
   use run_config, only: run_config_t
   use elastic_driver, only: run_elasticity
+  use biot_driver, only: run_biot
   implicit none
 
   type(parallel_comm_t) :: comm
@@ -51,6 +52,8 @@ program geoblock
   select case (run%physics)
   case ('elasticity')
     call run_elasticity(comm, log, d, run)
+  case ('biot')
+    call run_biot(comm, log, d, run)
   end select
   call log%close()
   call comm%finalize()

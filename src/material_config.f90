@@ -4,6 +4,14 @@
 !>   young         drained Young's modulus E [Pa] (> 0)                [required]
 !>   poisson       drained Poisson's ratio nu (-1 < nu < 0.5)          [required]
 !>   body_force(3) body force per unit volume [N/m^3]                  [0,0,0]
+!> Poromechanics (physics = 'biot'; ignored by elasticity):
+!>   biot          Biot coefficient b, 0 <= b <= 1                      [1]
+!>   biot_modulus  Biot modulus M [Pa] (> 0); leave it out for
+!>                 incompressible fluid and grains (1/M = 0)           [1/M = 0]
+!>   permeability  isotropic permeability k [m^2] (> 0)                [required for biot]
+!>   permeability_tensor(6)  full tensor xx, yy, zz, xy, yz, xz [m^2],
+!>                 symmetric positive definite; replaces permeability
+!>   viscosity     fluid viscosity mu [Pa s] (> 0)                     [1e-3]
 module material_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -20,6 +28,10 @@ module material_config
     real(rp) :: young = 0.0_rp
     real(rp) :: poisson = 0.0_rp
     real(rp) :: body_force(3) = 0.0_rp
+    real(rp) :: biot = 1.0_rp
+    real(rp) :: inv_biot_modulus = 0.0_rp      !< 1/M [1/Pa]
+    real(rp) :: perm(3, 3) = 0.0_rp            !< permeability tensor [m^2]; 0 = not given
+    real(rp) :: viscosity = 1.0e-3_rp
   end type material_config_t
 
 contains
@@ -31,12 +43,14 @@ contains
     type(material_config_t), allocatable, intent(out) :: mats(:)
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: region
-    real(rp) :: young, poisson, body_force(3)
+    real(rp) :: young, poisson, body_force(3), biot, biot_modulus, permeability, permeability_tensor(6), viscosity
+    real(rp) :: t(3, 3), ev(3)
     integer :: k, j, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(16)
-    namelist /material/ region, young, poisson, body_force
+    namelist /material/ region, young, poisson, body_force, biot, biot_modulus, permeability, permeability_tensor, &
+                        viscosity
 
     allocate(mats(d%count('material')))
     if (size(mats) == 0) then
@@ -45,6 +59,8 @@ contains
     end if
     do k = 1, size(mats)
       region = ''; young = unset_real; poisson = unset_real; body_force = 0.0_rp
+      biot = 1.0_rp; biot_modulus = unset_real; permeability = unset_real; permeability_tensor = unset_real
+      viscosity = 1.0e-3_rp
       call d%block('material', k, b)
       read(b, nml=material, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -66,11 +82,73 @@ contains
         if (mats(j)%region == region) &
           call d%fail(status, 'material', k, 'region', "region '"//trim(region)//"' already has a material")
       end do
+      if (.not. (biot >= 0.0_rp .and. biot <= 1.0_rp)) &
+        call d%fail(status, 'material', k, 'biot', 'must lie in [0, 1] (got '//rtoa(biot)//')')
+      if (biot_modulus /= unset_real .and. .not. biot_modulus > 0.0_rp) &
+        call d%fail(status, 'material', k, 'biot_modulus', 'must be positive (got '//rtoa(biot_modulus)//')')
+      if (.not. viscosity > 0.0_rp) &
+        call d%fail(status, 'material', k, 'viscosity', 'must be positive (got '//rtoa(viscosity)//')')
+      t = 0.0_rp
+      if (any(permeability_tensor /= unset_real)) then
+        if (any(permeability_tensor == unset_real)) then
+          call d%fail(status, 'material', k, 'permeability_tensor', 'needs 6 values: xx, yy, zz, xy, yz, xz')
+        else
+          t = reshape([permeability_tensor(1), permeability_tensor(4), permeability_tensor(6), &
+                       permeability_tensor(4), permeability_tensor(2), permeability_tensor(5), &
+                       permeability_tensor(6), permeability_tensor(5), permeability_tensor(3)], [3, 3])
+          call sym_eigenvalues(t, ev)
+          if (.not. minval(ev) > 0.0_rp) &
+            call d%fail(status, 'material', k, 'permeability_tensor', 'must be positive definite')
+        end if
+        if (permeability /= unset_real) &
+          call d%fail(status, 'material', k, 'permeability', 'give permeability or permeability_tensor, not both')
+      else if (permeability /= unset_real) then
+        if (.not. permeability > 0.0_rp) then
+          call d%fail(status, 'material', k, 'permeability', 'must be positive (got '//rtoa(permeability)//')')
+        else
+          t = 0.0_rp
+          t(1, 1) = permeability; t(2, 2) = permeability; t(3, 3) = permeability
+        end if
+      end if
       if (.not. status%ok()) return
-      mats(k) = material_config_t(region, young, poisson, body_force)
+      mats(k) = material_config_t(region=region, young=young, poisson=poisson, body_force=body_force, biot=biot, &
+        inv_biot_modulus=merge(0.0_rp, 1.0_rp / max(biot_modulus, tiny(1.0_rp)), biot_modulus == unset_real), &
+        perm=t, viscosity=viscosity)
       echo = ''
       write(echo, nml=material, iostat=ios)
       call d%echo(log, echo)
     end do
   end subroutine read_materials
+
+  !> Eigenvalues of a symmetric 3x3 matrix (Jacobi rotations).
+  subroutine sym_eigenvalues(a_in, ev)
+    real(rp), intent(in) :: a_in(3, 3)
+    real(rp), intent(out) :: ev(3)
+    real(rp) :: a(3, 3), th, c, s, t, app, aqq, apq
+    integer :: sweep, p, q, r
+    a = a_in
+    do sweep = 1, 50
+      if (abs(a(1,2)) + abs(a(1,3)) + abs(a(2,3)) <= 1.0e-15_rp * (abs(a(1,1)) + abs(a(2,2)) + abs(a(3,3)))) exit
+      do p = 1, 2
+        do q = p + 1, 3
+          if (a(p, q) == 0.0_rp) cycle
+          app = a(p, p); aqq = a(q, q); apq = a(p, q)
+          th = (aqq - app) / (2.0_rp * apq)
+          t = sign(1.0_rp, th) / (abs(th) + sqrt(th * th + 1.0_rp))
+          c = 1.0_rp / sqrt(t * t + 1.0_rp)
+          s = t * c
+          do r = 1, 3
+            if (r == p .or. r == q) cycle
+            th = a(r, p)
+            a(r, p) = c * th - s * a(r, q); a(p, r) = a(r, p)
+            a(r, q) = s * th + c * a(r, q); a(q, r) = a(r, q)
+          end do
+          a(p, p) = app - t * apq
+          a(q, q) = aqq + t * apq
+          a(p, q) = 0.0_rp; a(q, p) = 0.0_rp
+        end do
+      end do
+    end do
+    ev = [a(1,1), a(2,2), a(3,3)]
+  end subroutine sym_eigenvalues
 end module material_config

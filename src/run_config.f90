@@ -1,21 +1,26 @@
 !> Deck groups &run, &time and &output: run control.
 !>
 !> &run      title        free text shown in the log                         ['']
-!>           physics      'elasticity' (the physics this build solves)        ['elasticity']
+!>           physics      'elasticity' or 'biot' (three-field poromechanics)  ['elasticity']
 !>           verbosity    0 quiet, 1 progress lines, 2 also the deck echo     [1]
-!> &time     n_steps      load steps; loads grow linearly and reach their
-!>                        full value at the last step (>= 1)                 [1]
+!> &time     n_steps      elasticity: load steps; loads grow linearly and reach
+!>                        their full value at the last step (>= 1)           [1]
+!>           dt           biot: first time step [s] (> 0)                    [required for biot]
+!>           t_end        biot: end time [s] (> 0)                           [required for biot]
+!>           dt_growth    biot: ratio of successive steps (>= 1)             [1]
+!>           dt_max       biot: largest step [s]                             [no limit]
+!>           undrained    biot: start with the undrained response at t = 0  [.true.]
 !> &output   dir          output directory (created if missing)             ['out']
 !>           prefix       file name prefix                        [deck file name without .nml]
 !>           fields       write HDF5 fields + XDMF each step                  [.true.]
 !>           export_matrix  write the assembled matrix and right-hand side of
 !>                        the first step in MatrixMarket format                [.false.]
 module run_config
-  use kinds, only: ip, path_len, msg_len, name_len
+  use kinds, only: rp, ip, path_len, msg_len, name_len
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len
-  use strings, only: itoa
+  use deck, only: deck_t, line_len, echo_len, unset_real
+  use strings, only: itoa, rtoa
   implicit none
   private
 
@@ -26,6 +31,8 @@ module run_config
     character(len=name_len) :: physics = 'elasticity'
     integer :: verbosity = 1
     integer :: n_steps = 1
+    real(rp) :: dt = -1.0_rp, t_end = -1.0_rp, dt_growth = 1.0_rp, dt_max = huge(1.0_rp)
+    logical :: undrained = .true.
     character(len=path_len) :: out_dir = 'out'
     character(len=name_len) :: prefix = ''
     logical :: fields = .true.
@@ -45,6 +52,8 @@ contains
     character(len=128) :: title
     character(len=name_len) :: physics
     integer :: verbosity, n_steps, ios, p
+    real(rp) :: dt, t_end, dt_growth, dt_max
+    logical :: undrained
     character(len=path_len) :: dir
     character(len=name_len) :: prefix
     logical :: fields, export_matrix
@@ -52,7 +61,7 @@ contains
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(16)
     namelist /run/ title, physics, verbosity
-    namelist /time/ n_steps
+    namelist /time/ n_steps, dt, t_end, dt_growth, dt_max, undrained
     namelist /output/ dir, prefix, fields, export_matrix
 
     title = ''; physics = 'elasticity'; verbosity = 1
@@ -63,12 +72,12 @@ contains
         call d%read_error('run', 1, ios, msg, status)
         return
       end if
-      if (physics /= 'elasticity') &
-        call d%fail(status, 'run', 1, 'physics', "must be 'elasticity' (got '"//trim(physics)//"')")
+      if (physics /= 'elasticity' .and. physics /= 'biot') &
+        call d%fail(status, 'run', 1, 'physics', "must be 'elasticity' or 'biot' (got '"//trim(physics)//"')")
       if (verbosity < 0 .or. verbosity > 2) &
         call d%fail(status, 'run', 1, 'verbosity', 'must be 0, 1 or 2 (got '//itoa(verbosity)//')')
     end if
-    n_steps = 1
+    n_steps = 1; dt = unset_real; t_end = unset_real; dt_growth = 1.0_rp; dt_max = huge(1.0_rp); undrained = .true.
     if (d%count('time') > 0) then
       call d%block('time', 1, b)
       read(b, nml=time, iostat=ios, iomsg=msg)
@@ -77,6 +86,20 @@ contains
         return
       end if
       if (n_steps < 1) call d%fail(status, 'time', 1, 'n_steps', 'must be at least 1 (got '//itoa(n_steps)//')')
+    end if
+    if (physics == 'biot') then
+      if (dt == unset_real) then
+        call d%fail(status, 'time', 1, 'dt', "required for physics = 'biot'")
+      else if (.not. dt > 0.0_rp) then
+        call d%fail(status, 'time', 1, 'dt', 'must be positive (got '//rtoa(dt)//')')
+      end if
+      if (t_end == unset_real) then
+        call d%fail(status, 'time', 1, 't_end', "required for physics = 'biot'")
+      else if (.not. t_end > 0.0_rp) then
+        call d%fail(status, 'time', 1, 't_end', 'must be positive (got '//rtoa(t_end)//')')
+      end if
+      if (.not. dt_growth >= 1.0_rp) call d%fail(status, 'time', 1, 'dt_growth', 'must be >= 1 (got '//rtoa(dt_growth)//')')
+      if (.not. dt_max > 0.0_rp) call d%fail(status, 'time', 1, 'dt_max', 'must be positive (got '//rtoa(dt_max)//')')
     end if
     dir = 'out'; fields = .true.; export_matrix = .false.
     ! default prefix: the deck's file name without directory and extension
@@ -99,6 +122,11 @@ contains
     self%physics = physics
     self%verbosity = verbosity
     self%n_steps = n_steps
+    self%dt = dt
+    self%t_end = t_end
+    self%dt_growth = dt_growth
+    self%dt_max = dt_max
+    self%undrained = undrained
     self%out_dir = dir
     self%prefix = prefix
     self%fields = fields

@@ -2,7 +2,12 @@
 !>
 !>   method    'fgmres' (flexible GMRES, right preconditioned), 'cg' (for SPD
 !>             systems with an SPD preconditioner) or 'mumps' (direct)     ['fgmres']
-!>   precon    'boomeramg' (settings in &amg), 'jacobi' or 'none'         ['boomeramg']
+!>   precon    'boomeramg' (settings in &amg), 'jacobi' or 'none'; for
+!>             physics = 'biot': 'block' (the block preconditioner)      ['boomeramg', biot: 'block']
+!>   block_mode  biot: 'ldu', 'lower', 'upper' or 'diagonal' application
+!>             of the block factorization                               ['ldu']
+!>   flux_precon biot: preconditioner of the Darcy mass block A:
+!>             'jacobi' (its diagonal) or 'boomeramg'                    ['jacobi']
 !>   rtol      relative residual tolerance, 0 < rtol < 1                 [1e-8]
 !>   atol      absolute residual tolerance, >= 0                         [0]
 !>   max_iter  iteration cap, >= 1                                        [1000]
@@ -27,6 +32,8 @@ module solver_config
     integer :: max_iter = 1000
     integer :: restart = 100
     logical :: fail_on_no_convergence = .true.
+    character(len=name_len) :: block_mode = 'ldu'
+    character(len=name_len) :: flux_precon = 'jacobi'
   contains
     procedure :: read => read_solver_config
   end type solver_config_t
@@ -39,17 +46,18 @@ contains
     type(deck_t), intent(in) :: d
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
-    character(len=name_len) :: method, precon
+    character(len=name_len) :: method, precon, block_mode, flux_precon
     real(rp) :: rtol, atol
     integer :: max_iter, restart, ios
     logical :: fail_on_no_convergence
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(16)
-    namelist /solver/ method, precon, rtol, atol, max_iter, restart, fail_on_no_convergence
+    namelist /solver/ method, precon, rtol, atol, max_iter, restart, fail_on_no_convergence, block_mode, flux_precon
 
     method = self%method; precon = self%precon; rtol = self%rtol; atol = self%atol
     max_iter = self%max_iter; restart = self%restart; fail_on_no_convergence = self%fail_on_no_convergence
+    block_mode = self%block_mode; flux_precon = self%flux_precon
     if (d%count('solver') > 0) then
       call d%block('solver', 1, b)
       read(b, nml=solver, iostat=ios, iomsg=msg)
@@ -60,9 +68,14 @@ contains
     end if
     if (method /= 'fgmres' .and. method /= 'cg' .and. method /= 'mumps') &
       call d%fail(status, 'solver', 1, 'method', "must be one of 'fgmres', 'cg', 'mumps' (got '"//trim(method)//"')")
-    if (precon /= 'boomeramg' .and. precon /= 'jacobi' .and. precon /= 'none') &
-      call d%fail(status, 'solver', 1, 'precon', "must be one of 'boomeramg', 'jacobi', 'none' (got '"// &
+    if (precon /= 'boomeramg' .and. precon /= 'jacobi' .and. precon /= 'none' .and. precon /= 'block') &
+      call d%fail(status, 'solver', 1, 'precon', "must be one of 'boomeramg', 'jacobi', 'none', 'block' (got '"// &
                   trim(precon)//"')")
+    if (block_mode /= 'ldu' .and. block_mode /= 'lower' .and. block_mode /= 'upper' .and. block_mode /= 'diagonal') &
+      call d%fail(status, 'solver', 1, 'block_mode', "must be one of 'ldu', 'lower', 'upper', 'diagonal' (got '"// &
+                  trim(block_mode)//"')")
+    if (flux_precon /= 'jacobi' .and. flux_precon /= 'boomeramg') &
+      call d%fail(status, 'solver', 1, 'flux_precon', "must be 'jacobi' or 'boomeramg' (got '"//trim(flux_precon)//"')")
     if (.not. (rtol > 0.0_rp .and. rtol < 1.0_rp)) &
       call d%fail(status, 'solver', 1, 'rtol', 'must lie in (0, 1) (got '//rtoa(rtol)//')')
     if (.not. (atol >= 0.0_rp)) call d%fail(status, 'solver', 1, 'atol', 'must be >= 0 (got '//rtoa(atol)//')')
@@ -76,6 +89,8 @@ contains
     self%max_iter = max_iter
     self%restart = restart
     self%fail_on_no_convergence = fail_on_no_convergence
+    self%block_mode = block_mode
+    self%flux_precon = flux_precon
     echo = ''
     write(echo, nml=solver, iostat=ios)
     call d%echo(log, echo)

@@ -1,0 +1,390 @@
+!> Three-field Biot poromechanics: displacement u (Q1, 3 per node), Darcy flux
+!> q (RT0, 1 per face: total flux along the global face normal) and pressure
+!> p (P0, 1 per cell), implicit Euler with gamma = dt. The block system of a
+!> time step (the seed's form, third row multiplied by gamma):
+!>
+!>     [ K    0      -Q ] [u]   [ f                                     ]
+!>     [ 0    A      -B ] [q] = [ -(p_bar on pressure faces)            ]
+!>     [ Q^T  g B^T   P ] [p]   [ g*source + Q^T u_old + P p_old        ]
+!>
+!> K: elasticity (from elasticity_t), Q(u_ai, c) = b int_c dN_a/dx_i,
+!> A(f, f') = int psi_f . mu k^-1 psi_f', B(f, c) = int_c div psi_f (= +-1),
+!> P(c, c) = |c| / M, g = gamma = dt (0 for the undrained step).
+!> Prescribed displacements and fluxes are eliminated symmetrically (their
+!> known values go to the right-hand side; their rows get a scaled identity);
+!> boundary faces without a pressure or flux condition are impermeable.
+!> Blocks are numbered 1 = u, 2 = q, 3 = p.
+module poromechanics
+  use kinds, only: rp, ip, gp, msg_len
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use index_map, only: index_map_t
+  use csr_matrix, only: csr_matrix_t
+  use block_matrix, only: block_matrix_t
+  use dist_mesh, only: dist_mesh_t
+  use dof_map, only: dof_map_t
+  use sparsity, only: element_pattern
+  use quadrature, only: gauss_hex
+  use hex_q1, only: hex_gradients
+  use hex_rt0, only: rt0_cell_mass, rt0_cell_divergence, rt0_values, rt0_orient
+  use elasticity, only: elasticity_t, lame
+  use material_config, only: material_config_t
+  use boundary_config, only: boundary_config_t
+  implicit none
+  private
+
+  public :: poromechanics_t, iu, iq, ipr
+
+  integer, parameter :: iu = 1, iq = 2, ipr = 3
+
+  type :: poromechanics_t
+    type(elasticity_t) :: mech
+    type(dof_map_t) :: qd, pd                 !< flux (faces) and pressure (cells) dofs
+    type(block_matrix_t) :: sys
+    real(rp), allocatable :: rhs(:)           !< block vector
+    real(rp), allocatable :: x(:), x_old(:)   !< state at the new and the previous time (block vectors)
+    real(rp), allocatable :: biot(:), inv_m(:), kdr(:), kinv(:,:,:)   !< per region
+    real(rp), allocatable :: vol(:)           !< local cell volumes [m^3]
+    logical, allocatable :: q_fixed(:)        !< local faces with a prescribed flux (0 = no flow)
+    real(rp), allocatable :: q_value(:)       !< prescribed flux through local faces [m^3/s]
+    real(rp), allocatable :: p_bc(:)          !< pressure of pressure faces [Pa], by local face
+    logical, allocatable :: p_face(:)
+    real(rp) :: a_scale = 1.0_rp
+    real(rp), allocatable :: a_norm(:)        !< ||A(f,:)||_2 by local face (ghosts imported)
+  contains
+    procedure :: init
+    procedure :: assemble
+    procedure :: fixed_stress_schur
+    procedure :: cell_velocity
+    procedure :: free
+  end type poromechanics_t
+
+contains
+
+  !> Dofs, block patterns, materials and boundary data. Collective.
+  subroutine init(self, mesh, mats, bcs, status)
+    class(poromechanics_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in), target :: mesh
+    type(material_config_t), intent(in) :: mats(:)
+    type(boundary_config_t), intent(in) :: bcs(:)
+    type(error_status_t), intent(inout) :: status
+    integer(ip), allocatable :: row_ptr(:), col(:), cells(:,:)
+    integer(ip) :: r, m, i, c, b, s, f, nreg
+    real(rp) :: lam, mu, km(3, 3)
+
+    call self%free()
+    call self%mech%init(mesh, mats, bcs, status)
+    if (.not. status%ok()) return
+    nreg = size(mesh%region_names, kind=ip)
+    allocate(self%biot(nreg), self%inv_m(nreg), self%kdr(nreg), self%kinv(3, 3, nreg))
+    do r = 1, nreg
+      m = 0
+      do i = 1, size(mats, kind=ip)
+        if (mats(i)%region == mesh%region_names(r)) m = i
+      end do
+      if (all(mats(m)%perm == 0.0_rp)) then
+        call status%set("&material of region '"//trim(mats(m)%region)// &
+                        "': permeability (or permeability_tensor) is required for physics = 'biot'")
+        return
+      end if
+      self%biot(r) = mats(m)%biot
+      self%inv_m(r) = mats(m)%inv_biot_modulus
+      call lame(mats(m)%young, mats(m)%poisson, lam, mu)
+      self%kdr(r) = lam + 2.0_rp * mu / 3.0_rp
+      km = mats(m)%perm
+      call invert3(km)
+      self%kinv(:, :, r) = mats(m)%viscosity * km
+    end do
+
+    call self%qd%init('flux', mesh%face_map, 1_ip)
+    call self%pd%init('pressure', mesh%cell_map, 1_ip)
+    call self%sys%init([self%mech%u%n_owned(), self%qd%n_owned(), self%pd%n_owned()])
+    allocate(cells(1, mesh%n_cells))
+    cells(1, :) = [(c, c = 1, mesh%n_cells)]
+    call element_pattern(mesh%node_map%n_owned, mesh%cell_nodes, mesh%cell_nodes, 3_ip, 3_ip, row_ptr, col)
+    call self%sys%set_pattern(iu, iu, self%mech%u%map, self%mech%u%map, row_ptr, col)
+    call element_pattern(mesh%node_map%n_owned, mesh%cell_nodes, cells, 3_ip, 1_ip, row_ptr, col)
+    call self%sys%set_pattern(iu, ipr, self%mech%u%map, self%pd%map, row_ptr, col)
+    call element_pattern(mesh%cell_map%n_owned, cells, mesh%cell_nodes, 1_ip, 3_ip, row_ptr, col)
+    call self%sys%set_pattern(ipr, iu, self%pd%map, self%mech%u%map, row_ptr, col)
+    call element_pattern(mesh%face_map%n_owned, mesh%cell_faces, mesh%cell_faces, 1_ip, 1_ip, row_ptr, col)
+    call self%sys%set_pattern(iq, iq, self%qd%map, self%qd%map, row_ptr, col)
+    call element_pattern(mesh%face_map%n_owned, mesh%cell_faces, cells, 1_ip, 1_ip, row_ptr, col)
+    call self%sys%set_pattern(iq, ipr, self%qd%map, self%pd%map, row_ptr, col)
+    call element_pattern(mesh%cell_map%n_owned, cells, mesh%cell_faces, 1_ip, 1_ip, row_ptr, col)
+    call self%sys%set_pattern(ipr, iq, self%pd%map, self%qd%map, row_ptr, col)
+    ! pressure-pressure: cells sharing a face (room for the stabilization)
+    call element_pattern(mesh%cell_map%n_owned, mesh%face_cells, mesh%face_cells, 1_ip, 1_ip, row_ptr, col)
+    call self%sys%set_pattern(ipr, ipr, self%pd%map, self%pd%map, row_ptr, col)
+    n_check: block
+      integer(ip) :: nb
+      nb = self%sys%offset(4)
+      allocate(self%rhs(nb), self%x(nb), self%x_old(nb))
+    end block n_check
+    self%x = 0.0_rp
+    self%x_old = 0.0_rp
+
+    allocate(self%vol(mesh%n_cells))
+    do c = 1, mesh%n_cells
+      self%vol(c) = mesh%cell_volume(c)
+    end do
+
+    ! flux boundary data: impermeable unless a pressure or flux condition says otherwise
+    allocate(self%q_fixed(mesh%n_faces), self%q_value(mesh%n_faces), self%p_face(mesh%n_faces), &
+             self%p_bc(mesh%n_faces))
+    self%q_fixed = mesh%face_on_boundary
+    self%q_value = 0.0_rp
+    self%p_face = .false.
+    self%p_bc = 0.0_rp
+    do b = 1, size(bcs, kind=ip)
+      if (bcs(b)%type /= 'pressure' .and. bcs(b)%type /= 'flux') cycle
+      s = mesh%set_id(bcs(b)%set)
+      do i = 1, mesh%n_sfaces
+        if (mesh%sface_set(i) /= s) cycle
+        f = mesh%sface_face(i)
+        if (.not. mesh%face_on_boundary(f)) then
+          call status%set("&boundary type = '"//trim(bcs(b)%type)//"' on set '"//trim(bcs(b)%set)// &
+                          "', which is not on the boundary")
+          return
+        end if
+        if (bcs(b)%type == 'pressure') then
+          self%q_fixed(f) = .false.
+          self%p_face(f) = .true.
+          self%p_bc(f) = bcs(b)%value(1)
+        else
+          self%q_fixed(f) = .true.
+          self%p_face(f) = .false.
+          self%q_value(f) = bcs(b)%value(1) * face_area(mesh, f)
+        end if
+      end do
+    end do
+    allocate(self%a_norm(mesh%n_faces))
+  end subroutine init
+
+  real(rp) function face_area(mesh, f)
+    use hex_q1, only: quad_area_vector
+    use quadrature, only: gauss_quad
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: f
+    real(rp) :: xq(2, 4), wq(4)
+    integer :: q
+    call gauss_quad(2_ip, xq, wq)
+    face_area = 0.0_rp
+    do q = 1, 4
+      face_area = face_area + wq(q) * norm2(quad_area_vector(mesh%coords(:, mesh%face_nodes(:, f)), xq(:, q)))
+    end do
+  end function face_area
+
+  !> In-place inverse of a 3x3 matrix.
+  subroutine invert3(a)
+    real(rp), intent(inout) :: a(3, 3)
+    real(rp) :: b(3, 3), det
+    b(1,1) = a(2,2)*a(3,3) - a(2,3)*a(3,2)
+    b(1,2) = a(1,3)*a(3,2) - a(1,2)*a(3,3)
+    b(1,3) = a(1,2)*a(2,3) - a(1,3)*a(2,2)
+    b(2,1) = a(2,3)*a(3,1) - a(2,1)*a(3,3)
+    b(2,2) = a(1,1)*a(3,3) - a(1,3)*a(3,1)
+    b(2,3) = a(1,3)*a(2,1) - a(1,1)*a(2,3)
+    b(3,1) = a(2,1)*a(3,2) - a(2,2)*a(3,1)
+    b(3,2) = a(1,2)*a(3,1) - a(1,1)*a(3,2)
+    b(3,3) = a(1,1)*a(2,2) - a(1,2)*a(2,1)
+    det = a(1,1)*b(1,1) + a(1,2)*b(2,1) + a(1,3)*b(3,1)
+    a = b / det
+  end subroutine invert3
+
+  !> Assemble the block system and right-hand side of the step to the new
+  !> time with gamma = dt (0: undrained step), from the state x_old.
+  !> Collective.
+  subroutine assemble(self, mesh, dt, status)
+    class(poromechanics_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: dt
+    type(error_status_t), intent(inout) :: status
+    real(rp), allocatable :: u_old(:), q_loc(:), rhs_u(:)
+    real(rp) :: xe(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, qe(24), ae(6, 6), be(6), b
+    integer(ip) :: c, a, q, j, dofs(24), faces(6), r, nu, nq, i, f, k, u0, u1, q0, q1, p0, p1
+    real(rp) :: dsum, dcount
+    type(parallel_comm_t) :: comm
+
+    comm = mesh%comm
+    call self%sys%zero()
+    call self%sys%block_range(iu, u0, u1)
+    call self%sys%block_range(iq, q0, q1)
+    call self%sys%block_range(ipr, p0, p1)
+    ! mechanics: K and f with the displacement conditions
+    allocate(rhs_u(u1 - u0 + 1))
+    call self%mech%assemble_into(mesh, 1.0_rp, self%sys%a(iu, iu), rhs_u)
+    self%rhs = 0.0_rp
+    self%rhs(u0:u1) = rhs_u
+    ! previous displacement with ghosts (for the eliminated columns of Q^T)
+    nu = self%mech%u%n_local()
+    allocate(u_old(nu))
+    u_old = 0.0_rp
+    u_old(1:self%mech%u%n_owned()) = self%x_old(u0:u1)
+    call self%mech%u%map%import(u_old)
+    nq = self%qd%n_local()
+    allocate(q_loc(nq))
+    q_loc = 0.0_rp
+
+    call gauss_hex(2_ip, xi, w)
+    do c = 1, mesh%cell_map%n_owned
+      xe = mesh%coords(:, mesh%cell_nodes(:, c))
+      r = mesh%cell_region(c)
+      b = self%biot(r)
+      do a = 1, 8
+        dofs(3*a-2:3*a) = self%mech%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
+      end do
+      ! Q_e = b int grad N
+      qe = 0.0_rp
+      do q = 1, 8
+        call hex_gradients(xe, xi(:, q), n, g, det)
+        do a = 1, 8
+          qe(3*a-2:3*a) = qe(3*a-2:3*a) + b * g(:, a) * det * w(q)
+        end do
+      end do
+      do j = 1, 24
+        if (self%mech%fixed(dofs(j))) then
+          ! known displacement: Q^T column to the right-hand side (its change over the step)
+          self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) - qe(j) * (self%mech%fixed_value(dofs(j)) - u_old(dofs(j)))
+        else
+          call self%sys%a(iu, ipr)%add_value(dofs(j), c, -qe(j))
+          call self%sys%a(ipr, iu)%add_value(c, dofs(j), qe(j))
+        end if
+      end do
+      ! Darcy: A_e and B_e in the global face orientation
+      call rt0_cell_mass(xe, self%kinv(:, :, r), ae, status)
+      if (.not. status%ok()) return
+      call rt0_cell_divergence(xe, be, status)
+      if (.not. status%ok()) return
+      call rt0_orient(mesh%cell_face_sign(:, c), ae)
+      call rt0_orient(mesh%cell_face_sign(:, c), be)
+      faces = mesh%cell_faces(:, c)
+      do j = 1, 6
+        f = faces(j)
+        if (self%q_fixed(f)) then
+          do i = 1, 6
+            if (.not. self%q_fixed(faces(i))) q_loc(faces(i)) = q_loc(faces(i)) - ae(i, j) * self%q_value(f)
+          end do
+          self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) - dt * be(j) * self%q_value(f)
+          cycle
+        end if
+        do i = 1, 6
+          if (.not. self%q_fixed(faces(i))) call self%sys%a(iq, iq)%add_value(faces(i), f, ae(i, j))
+        end do
+        call self%sys%a(iq, ipr)%add_value(f, c, -be(j))
+        if (dt > 0.0_rp) call self%sys%a(ipr, iq)%add_value(c, f, dt * be(j))
+        if (self%p_face(f)) q_loc(f) = q_loc(f) - self%p_bc(f)
+      end do
+      ! storage
+      call self%sys%a(ipr, ipr)%add_value(c, c, self%vol(c) * self%inv_m(r))
+    end do
+    call self%sys%finalize_assembly()
+    ! pressure faces appear once (one cell), counted above only for owned cells
+    call self%qd%map%export_add(q_loc)
+    self%rhs(q0:q1) = q_loc(1:self%qd%n_owned())
+
+    ! prescribed fluxes: scaled identity rows
+    dsum = 0.0_rp
+    dcount = 0.0_rp
+    do f = 1, self%qd%n_owned()
+      if (self%q_fixed(f)) cycle
+      k = self%sys%a(iq, iq)%find(f, f)
+      dsum = dsum + self%sys%a(iq, iq)%val(k)
+      dcount = dcount + 1.0_rp
+    end do
+    dsum = comm%sum(dsum)
+    dcount = comm%sum(dcount)
+    self%a_scale = 1.0_rp
+    if (dcount > 0.0_rp) self%a_scale = dsum / dcount
+    do f = 1, self%qd%n_owned()
+      if (.not. self%q_fixed(f)) cycle
+      k = self%sys%a(iq, iq)%find(f, f)
+      self%sys%a(iq, iq)%val(k) = self%a_scale
+      self%rhs(q0 + f - 1) = self%a_scale * self%q_value(f)
+    end do
+
+    ! the previous state in the mass balance: Q^T u_old (free columns) + P p_old
+    block
+      real(rp), allocatable :: tmp(:)
+      allocate(tmp(p1 - p0 + 1))
+      call self%sys%apply_block(ipr, iu, self%x_old(u0:u1), tmp)
+      self%rhs(p0:p1) = self%rhs(p0:p1) + tmp
+      do c = 1, mesh%cell_map%n_owned
+        self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) + self%vol(c) * self%inv_m(mesh%cell_region(c)) * &
+                               self%x_old(p0 + c - 1)
+      end do
+    end block
+
+    ! row norms of A (the scaled-Laplacian Schur approximation needs them)
+    self%a_norm = 0.0_rp
+    do f = 1, self%qd%n_owned()
+      associate (am => self%sys%a(iq, iq))
+        self%a_norm(f) = norm2(am%val(am%row_ptr(f):am%row_ptr(f+1)-1))
+      end associate
+    end do
+    call self%qd%map%import(self%a_norm)
+  end subroutine assemble
+
+  !> The explicit approximation of the pressure Schur complement
+  !>   S = P + S_K + dt S_A,  S_K = diag(b^2 |c| / K_dr) (fixed stress),
+  !>   S_A = B^T diag(a)^-1 B with a_f = ||A(f,:)||_2 (scaled Laplacian),
+  !> on the pattern of the pressure block. Call after assemble. Collective.
+  subroutine fixed_stress_schur(self, mesh, dt, s)
+    class(poromechanics_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: dt
+    type(csr_matrix_t), intent(inout) :: s
+    integer(ip) :: c, j, f, r, other
+    real(rp) :: sgn_c, sgn_o
+    associate (pp => self%sys%a(ipr, ipr))
+      if (.not. allocated(s%val)) call s%init(pp%row_map, pp%col_map, pp%row_ptr, pp%col)
+    end associate
+    call s%zero()
+    do c = 1, mesh%cell_map%n_owned
+      r = mesh%cell_region(c)
+      call s%add_value(c, c, self%vol(c) * (self%inv_m(r) + self%biot(r)**2 / self%kdr(r)))
+      if (dt <= 0.0_rp) cycle
+      do j = 1, 6
+        f = mesh%cell_faces(j, c)
+        if (self%q_fixed(f)) cycle
+        call s%add_value(c, c, dt / self%a_norm(f))
+        other = mesh%face_cells(1, f)
+        if (other == c) other = mesh%face_cells(2, f)
+        if (other == 0 .or. mesh%face_on_boundary(f)) cycle
+        sgn_c = real(mesh%cell_face_sign(j, c), rp)
+        sgn_o = -sgn_c
+        call s%add_value(c, other, dt * sgn_c * sgn_o / self%a_norm(f))
+      end do
+    end do
+    call s%finalize_assembly()
+  end subroutine fixed_stress_schur
+
+  !> Darcy velocity at the centre of each owned cell [m/s] from the fluxes
+  !> q_loc (all local faces, ghosts up to date).
+  subroutine cell_velocity(self, mesh, q_loc, v)
+    class(poromechanics_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: q_loc(:)
+    real(rp), intent(out) :: v(:,:)
+    real(rp) :: psi(3, 6), divv(6), det, qf(6)
+    integer(ip) :: c
+    do c = 1, mesh%cell_map%n_owned
+      call rt0_values(mesh%coords(:, mesh%cell_nodes(:, c)), [0.0_rp, 0.0_rp, 0.0_rp], psi, divv, det)
+      qf = q_loc(mesh%cell_faces(:, c)) * real(mesh%cell_face_sign(:, c), rp)
+      v(:, c) = matmul(psi, qf)
+    end do
+  end subroutine cell_velocity
+
+  subroutine free(self)
+    class(poromechanics_t), intent(inout) :: self
+    call self%sys%free()
+    call self%mech%free()
+    call self%qd%free()
+    call self%pd%free()
+    if (allocated(self%rhs)) deallocate(self%rhs, self%x, self%x_old)
+    if (allocated(self%biot)) deallocate(self%biot, self%inv_m, self%kdr, self%kinv)
+    if (allocated(self%vol)) deallocate(self%vol)
+    if (allocated(self%q_fixed)) deallocate(self%q_fixed, self%q_value, self%p_face, self%p_bc)
+    if (allocated(self%a_norm)) deallocate(self%a_norm)
+  end subroutine free
+end module poromechanics
