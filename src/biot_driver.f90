@@ -19,6 +19,7 @@ module biot_driver
   use boundary_config, only: boundary_config_t, read_boundaries
   use solver_config, only: solver_config_t
   use amg_config, only: read_amg_config
+  use biot_config, only: biot_config_t
   use amg_params, only: amg_params_t
   use mesh_builder, only: build_mesh
   use dist_mesh, only: dist_mesh_t
@@ -52,6 +53,7 @@ contains
     type(material_config_t), allocatable :: mats(:)
     type(boundary_config_t), allocatable :: bcs(:)
     type(solver_config_t) :: scfg
+    type(biot_config_t) :: bcfg
     type(amg_params_t) :: amg, amg_s
     type(error_status_t) :: status
     type(dist_mesh_t), target :: mesh
@@ -82,6 +84,7 @@ contains
       call scfg%read(d, log, status)
     end if
     if (status%ok()) call read_amg_config(d, log, amg, status)
+    if (status%ok()) call bcfg%read(d, log, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
     if (scfg%method == 'cg') call log%fatal(comm, "deck '"//trim(d%path)//"', group &solver, variable method: "// &
       "the Biot system is not symmetric positive definite: use 'fgmres' or 'mumps'")
@@ -92,7 +95,7 @@ contains
     call build_mesh(comm, mcfg, log, mesh, status)
     call timers%stop('mesh')
     if (.not. status%ok()) call log%fatal(comm, status%msg)
-    call phys%init(mesh, mats, bcs, status)
+    call phys%init(mesh, mats, bcs, bcfg%beta(), status)
     call agree(comm, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
     call log%info('unknowns: u '//itoa(int(phys%mech%u%map%n_global))//', q '//itoa(int(phys%qd%map%n_global))// &

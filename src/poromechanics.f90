@@ -51,6 +51,7 @@ module poromechanics
     logical, allocatable :: p_face(:)
     real(rp) :: a_scale = 1.0_rp
     real(rp), allocatable :: a_norm(:)        !< ||A(f,:)||_2 by local face (ghosts imported)
+    real(rp), allocatable :: jump_w(:)        !< pressure-jump stabilization weight by local face [m^3/Pa]
   contains
     procedure :: init
     procedure :: assemble
@@ -61,12 +62,14 @@ module poromechanics
 
 contains
 
-  !> Dofs, block patterns, materials and boundary data. Collective.
-  subroutine init(self, mesh, mats, bcs, status)
+  !> Dofs, block patterns, materials and boundary data. stab_beta > 0 turns
+  !> on the pressure-jump stabilization with that factor (0: off). Collective.
+  subroutine init(self, mesh, mats, bcs, stab_beta, status)
     class(poromechanics_t), intent(inout) :: self
     type(dist_mesh_t), intent(in), target :: mesh
     type(material_config_t), intent(in) :: mats(:)
     type(boundary_config_t), intent(in) :: bcs(:)
+    real(rp), intent(in) :: stab_beta
     type(error_status_t), intent(inout) :: status
     integer(ip), allocatable :: row_ptr(:), col(:), cells(:,:)
     integer(ip) :: r, m, i, c, b, s, f, nreg
@@ -159,7 +162,52 @@ contains
       end do
     end do
     allocate(self%a_norm(mesh%n_faces))
+    call jump_weights(self, mesh, mats, stab_beta)
   end subroutine init
+
+  !> Weights of the pressure-jump stabilization (after Berger, Bordas, Kay
+  !> and Tavener, SIAM J. Sci. Comput. 37 (2015), local pressure jumps for
+  !> Q1/P0-type poroelasticity): for an interior face f between cells c1, c2,
+  !>   w_f = beta h_f |f| / M_c,  h_f = |x_c1 - x_c2|,  M_c the mean constrained
+  !> modulus lambda + 2 mu of the two cells,
+  !> so that J(p, chi) = sum_f w_f [p]_f [chi]_f has the units of the mass
+  !> balance (volume) and the size of the undrained Schur complement b^2 V / M_c
+  !> times beta. It acts on the pressure increment of each step, so it
+  !> vanishes at steady state and does not pollute a drained solution.
+  subroutine jump_weights(self, mesh, mats, beta)
+    type(poromechanics_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    type(material_config_t), intent(in) :: mats(:)
+    real(rp), intent(in) :: beta
+    integer(ip) :: f, c1, c2
+    real(rp) :: x1(3), x2(3), m1, m2
+    allocate(self%jump_w(mesh%n_faces))
+    self%jump_w = 0.0_rp
+    if (beta <= 0.0_rp) return
+    do f = 1, mesh%n_faces
+      c1 = mesh%face_cells(1, f)
+      c2 = mesh%face_cells(2, f)
+      if (mesh%face_on_boundary(f) .or. c1 == 0 .or. c2 == 0) cycle
+      x1 = sum(mesh%coords(:, mesh%cell_nodes(:, c1)), dim=2) / 8.0_rp
+      x2 = sum(mesh%coords(:, mesh%cell_nodes(:, c2)), dim=2) / 8.0_rp
+      m1 = constrained_modulus(mats, mesh%region_names(mesh%cell_region(c1)))
+      m2 = constrained_modulus(mats, mesh%region_names(mesh%cell_region(c2)))
+      self%jump_w(f) = beta * norm2(x1 - x2) * face_area(mesh, f) / (0.5_rp * (m1 + m2))
+    end do
+  end subroutine jump_weights
+
+  real(rp) function constrained_modulus(mats, region)
+    type(material_config_t), intent(in) :: mats(:)
+    character(len=*), intent(in) :: region
+    integer :: i
+    real(rp) :: lam, mu
+    constrained_modulus = 1.0_rp
+    do i = 1, size(mats)
+      if (mats(i)%region /= region) cycle
+      call lame(mats(i)%young, mats(i)%poisson, lam, mu)
+      constrained_modulus = lam + 2.0_rp * mu
+    end do
+  end function constrained_modulus
 
   real(rp) function face_area(mesh, f)
     use hex_q1, only: quad_area_vector
@@ -200,7 +248,7 @@ contains
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), intent(in) :: dt
     type(error_status_t), intent(inout) :: status
-    real(rp), allocatable :: u_old(:), q_loc(:), rhs_u(:)
+    real(rp), allocatable :: u_old(:), q_loc(:), rhs_u(:), p_old(:)
     real(rp) :: xe(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, qe(24), ae(6, 6), be(6), b
     integer(ip) :: c, a, q, j, dofs(24), faces(6), r, nu, nq, i, f, k, u0, u1, q0, q1, p0, p1
     real(rp) :: dsum, dcount
@@ -225,6 +273,10 @@ contains
     nq = self%qd%n_local()
     allocate(q_loc(nq))
     q_loc = 0.0_rp
+    allocate(p_old(self%pd%n_local()))
+    p_old = 0.0_rp
+    p_old(1:self%pd%n_owned()) = self%x_old(p0:p1)
+    call self%pd%map%import(p_old)
 
     call gauss_hex(2_ip, xi, w)
     do c = 1, mesh%cell_map%n_owned
@@ -277,6 +329,16 @@ contains
       end do
       ! storage
       call self%sys%a(ipr, ipr)%add_value(c, c, self%vol(c) * self%inv_m(r))
+      ! pressure-jump stabilization on the pressure increment
+      do j = 1, 6
+        f = faces(j)
+        if (self%jump_w(f) == 0.0_rp) cycle
+        i = mesh%face_cells(1, f)
+        if (i == c) i = mesh%face_cells(2, f)
+        call self%sys%a(ipr, ipr)%add_value(c, c, self%jump_w(f))
+        call self%sys%a(ipr, ipr)%add_value(c, i, -self%jump_w(f))
+        self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) + self%jump_w(f) * (p_old(c) - p_old(i))
+      end do
     end do
     call self%sys%finalize_assembly()
     ! pressure faces appear once (one cell), counted above only for owned cells
@@ -343,6 +405,14 @@ contains
     do c = 1, mesh%cell_map%n_owned
       r = mesh%cell_region(c)
       call s%add_value(c, c, self%vol(c) * (self%inv_m(r) + self%biot(r)**2 / self%kdr(r)))
+      do j = 1, 6
+        f = mesh%cell_faces(j, c)
+        if (self%jump_w(f) == 0.0_rp) cycle
+        other = mesh%face_cells(1, f)
+        if (other == c) other = mesh%face_cells(2, f)
+        call s%add_value(c, c, self%jump_w(f))
+        call s%add_value(c, other, -self%jump_w(f))
+      end do
       if (dt <= 0.0_rp) cycle
       do j = 1, 6
         f = mesh%cell_faces(j, c)
@@ -386,5 +456,6 @@ contains
     if (allocated(self%vol)) deallocate(self%vol)
     if (allocated(self%q_fixed)) deallocate(self%q_fixed, self%q_value, self%p_face, self%p_bc)
     if (allocated(self%a_norm)) deallocate(self%a_norm)
+    if (allocated(self%jump_w)) deallocate(self%jump_w)
   end subroutine free
 end module poromechanics
