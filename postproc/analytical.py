@@ -11,7 +11,7 @@ Conventions (the same as geoblock's Biot model)
 * Stresses are positive in tension (Biot, Coussy); the pore pressure p is the
   excess over the initial (zero) pressure. Loads are given as positive numbers
   meaning compression (sigma0 in Terzaghi, F in Mandel).
-* Poroelastic model (Coussy 2004, ch. 4):
+* Poroelastic model (Coussy 2004):
       sigma = 2 G eps + lambda tr(eps) I - b p I,
       (1/M) dp/dt + b d tr(eps)/dt + div q = 0,   q = -(k/mu) grad p.
 
@@ -28,8 +28,8 @@ Sources actually used
   lecture book), chapter on Terzaghi's problem: the Fourier series of the
   pressure and the degree of consolidation.
 * H. S. Carslaw and J. C. Jaeger, "Conduction of Heat in Solids", 2nd ed.,
-  Oxford, 1959, ch. III: the small-time (method of images) form of the slab
-  solution in erfc terms, used here for c_v t / H^2 < 0.25.
+  Oxford, 1959 (linear flow in a slab): the small-time (method of images)
+  form of the slab solution in erfc terms, used here for c_v t / H^2 < 0.25.
 * J. Mandel, "Consolidation des sols (etude mathematique)", Geotechnique 3
   (1953) 287-299: the problem.
 * A. H.-D. Cheng and E. Detournay, "A direct boundary element method for plane
@@ -327,7 +327,7 @@ class Terzaghi:
     Pressure, with zeta = z/H, T = c_v t / H^2 and lam_m = (2m+1) pi / 2
     (Verruijt, Terzaghi's problem):
         p = p0 sum_{m>=0} (4/pi) (-1)^m / (2m+1) cos(lam_m zeta) exp(-lam_m^2 T)
-    For T < 0.25 the equivalent image series (Carslaw & Jaeger, ch. III)
+    For T < 0.25 the equivalent image series (Carslaw & Jaeger, slab)
         p = p0 [1 - sum_{n>=0} (-1)^n (erfc((2n+1-zeta)/(2 sqrt T))
                                        + erfc((2n+1+zeta)/(2 sqrt T)))]
     is used (few terms where the Fourier series needs many).
@@ -396,10 +396,9 @@ class Terzaghi:
 
     def degree_of_consolidation(self, t, tol=1e-12):
         """U(t) = (s(t) - s(0)) / (s(inf) - s(0)), from 0 to 1."""
-        zeta = np.ones(np.size(t))
-        T = self.time_factor(np.ravel(t))
+        zeta, T, shape = self._prepare(self.H, t)
         _, I = _terzaghi_normalized(zeta, T, tol)
-        return (1.0 - I).reshape(np.shape(t))
+        return (1.0 - I).reshape(shape)
 
 
 def terzaghi_pressure(params, H, sigma0, z, t, tol=1e-12):
@@ -497,7 +496,7 @@ class Mandel:
     Accuracy: the tail of each series is bounded using |coefficient| <=
     4/(alpha_n - 1/2), alpha_n >= (n-1) pi and alpha_{n+j}^2 - alpha_n^2 >=
     j pi alpha_n: absolute truncation error < tol * p0 (pressure), tol * F/G
-    (u_x, and u_y at |y| <= a), tol * F/a (sigma_yy). Small T needs about
+    (u_x), tol * F b/(G a) (u_y), tol * F/a (sigma_yy). Small T needs about
     sqrt(ln(1/tol)/T)/pi terms; more than max_terms raises ValueError.
     """
 
@@ -709,7 +708,7 @@ def plot_mandel_example(path):
     ax2.set_xlabel("x / a")
     ax2.set_ylabel("p / p0")
     ax2.set_title("Mandel: pressure profiles")
-    ax2.legend(fontsize=8)
+    ax2.legend(fontsize=8, loc="lower left")
     ax2.grid(True, alpha=0.3)
     fig.suptitle(f"E = {par.E:.3g} Pa, nu = {par.nu}, b = {par.b}, M = {par.M:.3g} Pa, "
                  f"k = {par.k:.3g} m^2, mu = {par.mu:.3g} Pa s; nu_u = {par.nu_u:.4f}, "

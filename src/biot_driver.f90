@@ -204,8 +204,9 @@ contains
       end if
       call timers%stop('solve')
       t = t + dt
-      write(line, '(a,i4,a,es10.3,a,es10.3,a,i4,a,es9.2,a,f8.3,a,f8.3,a,f8.3,a)') 'step ', step, '  t ', t, &
+      write(line, '(a,i4,a,es10.3,a,es10.3,a,i4,a,es9.2,a,es9.2,a,f8.3,a,f8.3,a,f8.3,a)') 'step ', step, '  t ', t, &
         '  dt ', dt, '  iterations ', info%iterations, '  rel. residual ', info%rel_res, &
+        '  mass balance ', mass_balance(phys), &
         '  setup(dt-indep.) ', t_p1, ' s  setup(dt) ', t_p2, ' s  solve ', info%solve_time, ' s'
       call log%info(line)
       has_nan = comm%any_true(any(phys%x /= phys%x))
@@ -250,6 +251,33 @@ contains
     call s%diagonal(d(p0:p1))
     d = 1.0_rp / sqrt(abs(d))
   end subroutine scaling
+
+  !> Local mass conservation of the step: the largest cell residual of the
+  !> mass balance rows, relative to the largest sum of the magnitudes of a
+  !> cell's terms (volume change, storage, net outflow). Collective.
+  real(rp) function mass_balance(phys)
+    type(poromechanics_t), intent(inout) :: phys
+    real(rp), allocatable :: r(:), t1(:), t2(:), t3(:)
+    integer(ip) :: u0, u1, q0, q1, p0, p1
+    type(parallel_comm_t) :: comm
+    real(rp) :: scale
+    comm = phys%mech%u%map%comm
+    call phys%sys%block_range(iu, u0, u1)
+    call phys%sys%block_range(iq, q0, q1)
+    call phys%sys%block_range(ipr, p0, p1)
+    allocate(r(size(phys%rhs)), t1(p1 - p0 + 1), t2(p1 - p0 + 1), t3(p1 - p0 + 1))
+    call phys%sys%apply(phys%x, r)
+    r = phys%rhs - r
+    call phys%sys%apply_block(ipr, iu, phys%x(u0:u1) - phys%x_old(u0:u1), t1)
+    call phys%sys%apply_block(ipr, iq, phys%x(q0:q1), t2)
+    call phys%sys%apply_block(ipr, ipr, phys%x(p0:p1) - phys%x_old(p0:p1), t3)
+    scale = 0.0_rp
+    if (p1 >= p0) scale = maxval(abs(t1) + abs(t2) + abs(t3))
+    scale = comm%max(scale)
+    mass_balance = 0.0_rp
+    if (p1 >= p0) mass_balance = maxval(abs(r(p0:p1)))
+    mass_balance = comm%max(mass_balance) / max(scale, tiny(1.0_rp))
+  end function mass_balance
 
   !> ||b - A x|| / ||b|| of the current state.
   real(rp) function residual_norm(phys)
