@@ -77,11 +77,17 @@ $(ODIR) $(MDIR) bin bin/tests:
 deps:
 	@bash tools/install_deps.sh
 
-# The default deck on 2 ranks.
-DECK ?= input/cube.nml
+# The default deck (a small Mandel problem) on 2 ranks, then its plots.
+DECK ?= input/mandel.nml
+PYTHON ?= /usr/bin/python3
 run: deps
 	$(MAKE) all
 	$(MPIRUN) -np $(NP) $(EXE) $(DECK)
+	@if [ "$(DECK)" = input/mandel.nml ]; then \
+	  $(PYTHON) postproc/plot_mandel.py out mandel out/mandel_pressure.png > /dev/null && \
+	  $(PYTHON) postproc/plot_convergence.py out mandel out/mandel_convergence.png > /dev/null && \
+	  echo "plots: out/mandel_pressure.png (pressure against the analytical solution)," \
+	       "out/mandel_convergence.png (FGMRES residual histories)"; fi
 
 test: deps
 	$(MAKE) all tests

@@ -16,7 +16,7 @@ module biot_driver
   use run_config, only: run_config_t
   use mesh_config, only: mesh_config_t
   use material_config, only: material_config_t, read_materials
-  use boundary_config, only: boundary_config_t, read_boundaries
+  use boundary_config, only: boundary_config_t, read_boundaries, load_histories
   use solver_config, only: solver_config_t
   use amg_config, only: read_amg_config
   use biot_config, only: biot_config_t
@@ -74,6 +74,7 @@ contains
     integer :: step
     logical :: setup_done, has_nan
     character(len=msg_len) :: line
+    integer :: hist_unit, k, ios
 
     call timers%start('total')
     call mcfg%read(d, log, status)
@@ -85,6 +86,7 @@ contains
     end if
     if (status%ok()) call read_amg_config(d, log, amg, status)
     if (status%ok()) call bcfg%read(d, log, status)
+    if (status%ok()) call load_histories(comm, bcs, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
     if (scfg%method == 'cg') call log%fatal(comm, "deck '"//trim(d%path)//"', group &solver, variable method: "// &
       "the Biot system is not symmetric positive definite: use 'fgmres' or 'mumps'")
@@ -107,6 +109,13 @@ contains
       if (.not. status%ok()) call log%fatal(comm, status%msg)
     end if
 
+    ! residual histories of every solve, for postproc/plot_convergence.py
+    hist_unit = 0
+    if (comm%is_root()) then
+      open(newunit=hist_unit, file=trim(run%out_dir)//'/'//trim(run%prefix)//'_residuals.csv', &
+           status='replace', action='write', iostat=ios)
+      if (ios == 0) write(hist_unit, '(a)') 'step,time,iteration,relative_residual'
+    end if
     amg_s = amg
     amg_s%num_functions = 1
     amg_s%strong_threshold = 0.25_rp
@@ -125,7 +134,7 @@ contains
         dt = min(run%dt * run%dt_growth**(step - 1), run%dt_max, run%t_end - t)
       end if
       call timers%start('assembly')
-      call phys%assemble(mesh, dt, status)
+      call phys%assemble(mesh, t + dt, dt, status)
       call timers%stop('assembly')
       call agree(comm, status)
       if (.not. status%ok()) call log%fatal(comm, status%msg)
@@ -209,6 +218,12 @@ contains
         '  mass balance ', mass_balance(phys), &
         '  setup(dt-indep.) ', t_p1, ' s  setup(dt) ', t_p2, ' s  solve ', info%solve_time, ' s'
       call log%info(line)
+      if (comm%is_root() .and. allocated(info%history)) then
+        do k = 0, info%iterations
+          write(hist_unit, '(i0,a,es16.8,a,i0,a,es16.8)', iostat=ios) step, ',', t, ',', k, ',', info%history(k)
+        end do
+        flush(hist_unit)
+      end if
       has_nan = comm%any_true(any(phys%x /= phys%x))
       if (.not. info%converged .or. has_nan) then
         if (scfg%fail_on_no_convergence .or. has_nan) &
@@ -224,7 +239,9 @@ contains
       phys%x_old = phys%x
       step = step + 1
     end do
+    if (comm%is_root()) close(hist_unit)
     if (run%fields) call log%info('output: '//trim(out%xdmf_path())//' (open it in ParaView)')
+    call log%info('residual histories: '//trim(run%out_dir)//'/'//trim(run%prefix)//'_residuals.csv')
     call timers%stop('total')
     call timers%report(comm, log)
     call bp%free()

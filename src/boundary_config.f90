@@ -8,24 +8,33 @@
 !>   type = 'pressure' (biot): pressure  prescribed fluid pressure [Pa]     [required]
 !>   type = 'flux' (biot):     flux      prescribed outward normal Darcy
 !>                             flux [m/s]                                  [required]
+!>   history      optional file of "time factor" rows (# comments): the
+!>                condition's value is multiplied by the factor, linearly
+!>                interpolated in time (constant before the first and after
+!>                the last row); elasticity uses the load factor as time   ['']
 !> Boundary faces with neither a pressure nor a flux condition are
 !> impermeable (no flow). Elasticity loads are scaled by the load factor of
 !> the step (see &time); poromechanics applies them in full from t = 0+.
 module boundary_config
-  use kinds, only: rp, name_len, msg_len
+  use kinds, only: rp, name_len, msg_len, path_len
+  use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
   use logger, only: logger_t
   use deck, only: deck_t, line_len, echo_len, unset_real
   implicit none
   private
 
-  public :: boundary_config_t, read_boundaries
+  public :: boundary_config_t, read_boundaries, load_histories
 
   type :: boundary_config_t
     character(len=name_len) :: set = ''
     character(len=16) :: type = ''
     logical :: fixed(3) = .false.          !< displacement: which components are prescribed
     real(rp) :: value(3) = 0.0_rp          !< displacement [m] or traction [Pa]
+    character(len=path_len) :: history = ''
+    real(rp), allocatable :: hist_t(:), hist_f(:)
+  contains
+    procedure :: factor
   end type boundary_config_t
 
 contains
@@ -39,16 +48,17 @@ contains
     character(len=name_len) :: set
     character(len=16) :: type
     real(rp) :: ux, uy, uz, traction(3), pressure, flux
+    character(len=path_len) :: history
     integer :: k, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(16)
-    namelist /boundary/ set, type, ux, uy, uz, traction, pressure, flux
+    namelist /boundary/ set, type, ux, uy, uz, traction, pressure, flux, history
 
     allocate(bcs(d%count('boundary')))
     do k = 1, size(bcs)
       set = ''; type = ''; ux = unset_real; uy = unset_real; uz = unset_real; traction = unset_real
-      pressure = unset_real; flux = unset_real
+      pressure = unset_real; flux = unset_real; history = ''
       call d%block('boundary', k, b)
       read(b, nml=boundary, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -58,6 +68,7 @@ contains
       if (len_trim(set) == 0) call d%fail(status, 'boundary', k, 'set', 'required')
       bcs(k)%set = set
       bcs(k)%type = type
+      bcs(k)%history = history
       select case (type)
       case ('displacement')
         bcs(k)%fixed = [ux, uy, uz] /= unset_real
@@ -94,4 +105,99 @@ contains
       call d%echo(log, echo)
     end do
   end subroutine read_boundaries
+
+  !> Multiplier of the condition's value at time t (1 without a history).
+  real(rp) function factor(self, t)
+    class(boundary_config_t), intent(in) :: self
+    real(rp), intent(in) :: t
+    integer :: i, n
+    factor = 1.0_rp
+    if (.not. allocated(self%hist_t)) return
+    n = size(self%hist_t)
+    if (t <= self%hist_t(1)) then
+      factor = self%hist_f(1)
+    else if (t >= self%hist_t(n)) then
+      factor = self%hist_f(n)
+    else
+      do i = 1, n - 1
+        if (t <= self%hist_t(i+1)) then
+          factor = self%hist_f(i) + (self%hist_f(i+1) - self%hist_f(i)) * (t - self%hist_t(i)) / &
+                   (self%hist_t(i+1) - self%hist_t(i))
+          return
+        end if
+      end do
+    end if
+  end function factor
+
+  !> Read the history files of the conditions (rank 0) and broadcast them.
+  !> Errors name the file and the line. Collective.
+  subroutine load_histories(comm, bcs, status)
+    type(parallel_comm_t), intent(in) :: comm
+    type(boundary_config_t), intent(inout) :: bcs(:)
+    type(error_status_t), intent(inout) :: status
+    integer :: k, n, u, ios, line, code
+    real(rp) :: row(2)
+    real(rp), allocatable :: t(:), f(:)
+    character(len=512) :: buf
+    character(len=msg_len) :: msg
+    do k = 1, size(bcs)
+      if (len_trim(bcs(k)%history) == 0) cycle
+      n = 0
+      msg = ''
+      if (comm%is_root()) then
+        allocate(t(1024), f(1024))
+        open(newunit=u, file=trim(bcs(k)%history), status='old', action='read', iostat=ios, iomsg=msg)
+        if (ios == 0) then
+          line = 0
+          do
+            read(u, '(a)', iostat=ios) buf
+            if (ios /= 0) exit
+            line = line + 1
+            buf = adjustl(buf)
+            if (len_trim(buf) == 0 .or. buf(1:1) == '#') cycle
+            read(buf, *, iostat=ios) row
+            if (ios /= 0) then
+              write(msg, '(a,i0,a)') 'line ', line, ': expected two numbers "time factor"'
+              exit
+            end if
+            if (n > 0) then
+              if (row(1) <= t(n)) then
+                write(msg, '(a,i0,a)') 'line ', line, ': times must increase'
+                ios = 1
+                exit
+              end if
+            end if
+            if (n == size(t)) then
+              t = [t, t]
+              f = [f, f]
+            end if
+            n = n + 1
+            t(n) = row(1)
+            f(n) = row(2)
+          end do
+          close(u)
+          if (ios < 0) ios = 0
+          if (ios == 0 .and. n == 0) then
+            msg = 'no rows'
+            ios = 1
+          end if
+        end if
+        if (ios /= 0) n = -1
+      end if
+      call comm%bcast(n)
+      if (n < 0) then
+        call comm%bcast(msg)
+        code = 1
+        call status%set("&boundary on set '"//trim(bcs(k)%set)//"': history file '"//trim(bcs(k)%history)// &
+                        "': "//trim(msg), code)
+        return
+      end if
+      if (.not. comm%is_root()) allocate(t(n), f(n))
+      bcs(k)%hist_t = t(1:n)
+      bcs(k)%hist_f = f(1:n)
+      call comm%bcast(bcs(k)%hist_t)
+      call comm%bcast(bcs(k)%hist_f)
+      if (allocated(t)) deallocate(t, f)
+    end do
+  end subroutine load_histories
 end module boundary_config

@@ -11,7 +11,7 @@ module elastic_driver
   use run_config, only: run_config_t
   use mesh_config, only: mesh_config_t
   use material_config, only: material_config_t, read_materials
-  use boundary_config, only: boundary_config_t, read_boundaries
+  use boundary_config, only: boundary_config_t, read_boundaries, load_histories
   use solver_config, only: solver_config_t
   use amg_config, only: read_amg_config
   use amg_params, only: amg_params_t
@@ -60,6 +60,7 @@ contains
     if (status%ok()) call read_boundaries(d, log, bcs, status)
     if (status%ok()) call scfg%read(d, log, status)
     if (status%ok()) call read_amg_config(d, log, amg, status)
+    if (status%ok()) call load_histories(comm, bcs, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
 
     do c = 1, size(bcs)
@@ -97,6 +98,7 @@ contains
     do step = 1, run%n_steps
       lf = real(step, rp) / real(run%n_steps, rp)
       call timers%start('assembly')
+      call phys%set_time(lf)
       call phys%assemble(mesh, lf)
       call timers%stop('assembly', t_asm)
       if (step == 1 .and. run%export_matrix) then

@@ -34,12 +34,18 @@ module elasticity
     integer(ip), allocatable :: trac_face(:) !< local boundary faces with a traction, on owned cells
     real(rp), allocatable :: trac_value(:,:) !< (3, n) traction at full load [Pa]
     real(rp) :: diag_scale = 1.0_rp
+    integer(ip), allocatable :: fixed_bc(:)  !< per local dof: the condition that prescribes it
+    integer(ip), allocatable :: trac_bc(:)   !< per traction face: its condition
+    type(boundary_config_t), allocatable :: bcs(:)
+    real(rp), allocatable :: bc_factor(:)    !< history factor of each condition at the current time
   contains
     procedure :: init
     procedure :: assemble
     procedure :: assemble_into
     procedure :: element_stiffness
     procedure :: cell_stress
+    procedure :: set_time
+    procedure :: prescribed_value
     procedure :: free
   end type elasticity_t
 
@@ -93,9 +99,13 @@ contains
     call self%k%init(self%u%map, self%u%map, row_ptr, col)
     allocate(self%rhs(self%u%n_owned()))
 
-    allocate(self%fixed(self%u%n_local()), self%fixed_value(self%u%n_local()))
+    allocate(self%fixed(self%u%n_local()), self%fixed_value(self%u%n_local()), self%fixed_bc(self%u%n_local()))
     self%fixed = .false.
     self%fixed_value = 0.0_rp
+    self%fixed_bc = 0
+    self%bcs = bcs
+    allocate(self%bc_factor(size(bcs)))
+    self%bc_factor = 1.0_rp
     nt = 0
     do b = 1, size(bcs, kind=ip)
       s = mesh%set_id(bcs(b)%set)
@@ -109,6 +119,7 @@ contains
             if (.not. bcs(b)%fixed(c)) cycle
             self%fixed(self%u%dof(mesh%set_nodes(i), c)) = .true.
             self%fixed_value(self%u%dof(mesh%set_nodes(i), c)) = bcs(b)%value(c)
+            self%fixed_bc(self%u%dof(mesh%set_nodes(i), c)) = b
           end do
         end do
       else if (bcs(b)%type == 'traction') then
@@ -118,7 +129,7 @@ contains
       end if
     end do
     ! traction faces: boundary faces of the set whose cell this rank owns
-    allocate(self%trac_face(nt), self%trac_value(3, nt))
+    allocate(self%trac_face(nt), self%trac_value(3, nt), self%trac_bc(nt))
     nt = 0
     do b = 1, size(bcs, kind=ip)
       if (bcs(b)%type /= 'traction') cycle
@@ -135,11 +146,32 @@ contains
         nt = nt + 1
         self%trac_face(nt) = f
         self%trac_value(:, nt) = bcs(b)%value
+        self%trac_bc(nt) = b
       end do
     end do
     self%trac_face = self%trac_face(1:nt)
     self%trac_value = self%trac_value(:, 1:nt)
+    self%trac_bc = self%trac_bc(1:nt)
   end subroutine init
+
+  !> Evaluate the conditions' histories at time t (the load factor for a
+  !> static run, the physical time for poromechanics).
+  subroutine set_time(self, t)
+    class(elasticity_t), intent(inout) :: self
+    real(rp), intent(in) :: t
+    integer :: b
+    do b = 1, size(self%bcs)
+      self%bc_factor(b) = self%bcs(b)%factor(t)
+    end do
+  end subroutine set_time
+
+  !> Value of prescribed local dof at the current time (without load factor).
+  real(rp) function prescribed_value(self, dof)
+    class(elasticity_t), intent(in) :: self
+    integer(ip), intent(in) :: dof
+    prescribed_value = 0.0_rp
+    if (self%fixed_bc(dof) > 0) prescribed_value = self%fixed_value(dof) * self%bc_factor(self%fixed_bc(dof))
+  end function prescribed_value
 
   !> Assemble the stiffness self%k and right-hand side self%rhs (see assemble_into).
   subroutine assemble(self, mesh, lf, body, dirichlet)
@@ -251,7 +283,8 @@ contains
         do a = 1, 4
           do i = 1, 3
             j = self%u%dof(mesh%face_nodes(a, f), i)
-            if (.not. self%fixed(j)) f_loc(j) = f_loc(j) + lf * nq(a) * self%trac_value(i, t) * da
+            if (.not. self%fixed(j)) f_loc(j) = f_loc(j) + lf * self%bc_factor(self%trac_bc(t)) * nq(a) * &
+                                               self%trac_value(i, t) * da
           end do
         end do
       end do
@@ -291,7 +324,7 @@ contains
         v = dirichlet%eval(xn)
         prescribed = v(comp)
       else
-        prescribed = lf * self%fixed_value(dof)
+        prescribed = lf * self%prescribed_value(dof)
       end if
     end function prescribed
   end subroutine assemble_into
@@ -329,7 +362,8 @@ contains
     call self%u%free()
     if (allocated(self%rhs)) deallocate(self%rhs)
     if (allocated(self%lambda)) deallocate(self%lambda, self%mu, self%body)
-    if (allocated(self%fixed)) deallocate(self%fixed, self%fixed_value)
-    if (allocated(self%trac_face)) deallocate(self%trac_face, self%trac_value)
+    if (allocated(self%fixed)) deallocate(self%fixed, self%fixed_value, self%fixed_bc)
+    if (allocated(self%trac_face)) deallocate(self%trac_face, self%trac_value, self%trac_bc)
+    if (allocated(self%bcs)) deallocate(self%bcs, self%bc_factor)
   end subroutine free
 end module elasticity

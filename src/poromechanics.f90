@@ -49,6 +49,8 @@ module poromechanics
     real(rp), allocatable :: q_value(:)       !< prescribed flux through local faces [m^3/s]
     real(rp), allocatable :: p_bc(:)          !< pressure of pressure faces [Pa], by local face
     logical, allocatable :: p_face(:)
+    integer(ip), allocatable :: face_bc(:)    !< condition of a pressure or flux face (0: none)
+    type(boundary_config_t), allocatable :: bcs(:)
     real(rp) :: a_scale = 1.0_rp
     real(rp), allocatable :: a_norm(:)        !< ||A(f,:)||_2 by local face (ghosts imported)
     real(rp), allocatable :: jump_w(:)        !< pressure-jump stabilization weight by local face [m^3/Pa]
@@ -134,7 +136,9 @@ contains
 
     ! flux boundary data: impermeable unless a pressure or flux condition says otherwise
     allocate(self%q_fixed(mesh%n_faces), self%q_value(mesh%n_faces), self%p_face(mesh%n_faces), &
-             self%p_bc(mesh%n_faces))
+             self%p_bc(mesh%n_faces), self%face_bc(mesh%n_faces))
+    self%face_bc = 0
+    self%bcs = bcs
     self%q_fixed = mesh%face_on_boundary
     self%q_value = 0.0_rp
     self%p_face = .false.
@@ -150,6 +154,7 @@ contains
                           "', which is not on the boundary")
           return
         end if
+        self%face_bc(f) = b
         if (bcs(b)%type == 'pressure') then
           self%q_fixed(f) = .false.
           self%p_face(f) = .true.
@@ -241,12 +246,12 @@ contains
   end subroutine invert3
 
   !> Assemble the block system and right-hand side of the step to the new
-  !> time with gamma = dt (0: undrained step), from the state x_old.
-  !> Collective.
-  subroutine assemble(self, mesh, dt, status)
+  !> time t_new with gamma = dt (0: undrained step), from the state x_old.
+  !> Boundary histories are evaluated at t_new. Collective.
+  subroutine assemble(self, mesh, t_new, dt, status)
     class(poromechanics_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
-    real(rp), intent(in) :: dt
+    real(rp), intent(in) :: t_new, dt
     type(error_status_t), intent(inout) :: status
     real(rp), allocatable :: u_old(:), q_loc(:), rhs_u(:), p_old(:)
     real(rp) :: xe(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, qe(24), ae(6, 6), be(6), b
@@ -260,6 +265,7 @@ contains
     call self%sys%block_range(iq, q0, q1)
     call self%sys%block_range(ipr, p0, p1)
     ! mechanics: K and f with the displacement conditions
+    call self%mech%set_time(t_new)
     allocate(rhs_u(u1 - u0 + 1))
     call self%mech%assemble_into(mesh, 1.0_rp, self%sys%a(iu, iu), rhs_u)
     self%rhs = 0.0_rp
@@ -297,7 +303,7 @@ contains
       do j = 1, 24
         if (self%mech%fixed(dofs(j))) then
           ! known displacement: Q^T column to the right-hand side (its change over the step)
-          self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) - qe(j) * (self%mech%fixed_value(dofs(j)) - u_old(dofs(j)))
+          self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) - qe(j) * (self%mech%prescribed_value(dofs(j)) - u_old(dofs(j)))
         else
           call self%sys%a(iu, ipr)%add_value(dofs(j), c, -qe(j))
           call self%sys%a(ipr, iu)%add_value(c, dofs(j), qe(j))
@@ -315,9 +321,9 @@ contains
         f = faces(j)
         if (self%q_fixed(f)) then
           do i = 1, 6
-            if (.not. self%q_fixed(faces(i))) q_loc(faces(i)) = q_loc(faces(i)) - ae(i, j) * self%q_value(f)
+            if (.not. self%q_fixed(faces(i))) q_loc(faces(i)) = q_loc(faces(i)) - ae(i, j) * flux_value(f)
           end do
-          self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) - dt * be(j) * self%q_value(f)
+          self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) - dt * be(j) * flux_value(f)
           cycle
         end if
         do i = 1, 6
@@ -325,7 +331,7 @@ contains
         end do
         call self%sys%a(iq, ipr)%add_value(f, c, -be(j))
         if (dt > 0.0_rp) call self%sys%a(ipr, iq)%add_value(c, f, dt * be(j))
-        if (self%p_face(f)) q_loc(f) = q_loc(f) - self%p_bc(f)
+        if (self%p_face(f)) q_loc(f) = q_loc(f) - self%p_bc(f) * self%bcs(self%face_bc(f))%factor(t_new)
       end do
       ! storage
       call self%sys%a(ipr, ipr)%add_value(c, c, self%vol(c) * self%inv_m(r))
@@ -362,7 +368,7 @@ contains
       if (.not. self%q_fixed(f)) cycle
       k = self%sys%a(iq, iq)%find(f, f)
       self%sys%a(iq, iq)%val(k) = self%a_scale
-      self%rhs(q0 + f - 1) = self%a_scale * self%q_value(f)
+      self%rhs(q0 + f - 1) = self%a_scale * flux_value(f)
     end do
 
     ! the previous state in the mass balance: Q^T u_old (free columns) + P p_old
@@ -385,6 +391,13 @@ contains
       end associate
     end do
     call self%qd%map%import(self%a_norm)
+  contains
+    !> Prescribed flux through local face f at t_new [m^3/s].
+    real(rp) function flux_value(f)
+      integer(ip), intent(in) :: f
+      flux_value = self%q_value(f)
+      if (self%face_bc(f) > 0) flux_value = flux_value * self%bcs(self%face_bc(f))%factor(t_new)
+    end function flux_value
   end subroutine assemble
 
   !> The explicit approximation of the pressure Schur complement
@@ -454,7 +467,8 @@ contains
     if (allocated(self%rhs)) deallocate(self%rhs, self%x, self%x_old)
     if (allocated(self%biot)) deallocate(self%biot, self%inv_m, self%kdr, self%kinv)
     if (allocated(self%vol)) deallocate(self%vol)
-    if (allocated(self%q_fixed)) deallocate(self%q_fixed, self%q_value, self%p_face, self%p_bc)
+    if (allocated(self%q_fixed)) deallocate(self%q_fixed, self%q_value, self%p_face, self%p_bc, self%face_bc)
+    if (allocated(self%bcs)) deallocate(self%bcs)
     if (allocated(self%a_norm)) deallocate(self%a_norm)
     if (allocated(self%jump_w)) deallocate(self%jump_w)
   end subroutine free
