@@ -28,6 +28,7 @@ module biot_driver
   use poromechanics, only: poromechanics_t, iu, iq, ipr
   use krylov, only: solve_info_t
   use fgmres, only: fgmres_t
+  use cg, only: cg_t
   use precon, only: precon_t
   use boomeramg_precon, only: boomeramg_precon_t
   use jacobi_precon, only: jacobi_precon_t
@@ -193,6 +194,9 @@ contains
       call agree(comm, status)
       if (.not. status%ok()) call log%fatal(comm, 'step '//itoa(step)//': '//trim(status%msg))
 
+      if (scfg%elastic_reference .and. t_p1 > 0.0_rp .and. scfg%method /= 'mumps') &
+        call elastic_reference(comm, log, phys, bp, scfg)
+
       ! solve from the previous state
       phys%x = phys%x_old
       call timers%start('solve')
@@ -250,6 +254,33 @@ contains
     call phys%free()
     call mesh%free()
   end subroutine run_biot
+
+  !> The benchmarks' reference: one CG solve of K u = f (the mechanics block
+  !> and right-hand side of this step) with the BoomerAMG of the block
+  !> preconditioner, to the same tolerance. Logged, not used.
+  subroutine elastic_reference(comm, log, phys, bp, scfg)
+    type(parallel_comm_t), intent(in) :: comm
+    type(logger_t), intent(inout) :: log
+    type(poromechanics_t), intent(inout) :: phys
+    type(schur_block_precon_t), intent(inout) :: bp
+    type(solver_config_t), intent(in) :: scfg
+    type(cg_t) :: solver
+    type(solve_info_t) :: info
+    real(rp), allocatable :: x(:), b(:)
+    integer(ip) :: u0, u1
+    character(len=msg_len) :: line
+    call phys%sys%block_range(iu, u0, u1)
+    b = phys%rhs(u0:u1)
+    if (pnorm2(comm, b) == 0.0_rp) b = 1.0_rp
+    allocate(x(size(b)))
+    x = 0.0_rp
+    call solver%init(comm, scfg%rtol, 0.0_rp, scfg%max_iter)
+    call solver%solve(phys%sys%a(iu, iu), bp%sub(iu)%p, b, x, info)
+    write(line, '(a,i0,a,es9.2,a,f8.3,a,f8.3,a)') 'elastic reference (CG + BoomerAMG on K): iterations ', &
+      info%iterations, ', rel. residual ', info%rel_res, ', AMG setup ', bp%sub(iu)%p%setup_time, ' s, solve ', &
+      info%solve_time, ' s'
+    call log%info(line)
+  end subroutine elastic_reference
 
   !> Scaling of the rows and columns of the block system: 1/sqrt of the
   !> diagonal of K and A, and of the Schur approximation s for the pressure

@@ -6,6 +6,8 @@
 !>             physics = 'biot': 'block' (the block preconditioner)      ['boomeramg', biot: 'block']
 !>   block_mode  biot: 'ldu', 'lower', 'upper' or 'diagonal' application
 !>             of the block factorization                               ['ldu']
+!>   elastic_reference  biot: also solve K u = f once with CG and the same
+!>             BoomerAMG (the reference cost of the benchmarks)          [.false.]
 !>   flux_precon biot: preconditioner of the Darcy mass block A:
 !>             'jacobi' (its diagonal) or 'boomeramg'                    ['jacobi']
 !>   rtol      relative residual tolerance, 0 < rtol < 1                 [1e-8]
@@ -34,6 +36,7 @@ module solver_config
     logical :: fail_on_no_convergence = .true.
     character(len=name_len) :: block_mode = 'ldu'
     character(len=name_len) :: flux_precon = 'jacobi'
+    logical :: elastic_reference = .false.
   contains
     procedure :: read => read_solver_config
   end type solver_config_t
@@ -49,15 +52,16 @@ contains
     character(len=name_len) :: method, precon, block_mode, flux_precon
     real(rp) :: rtol, atol
     integer :: max_iter, restart, ios
-    logical :: fail_on_no_convergence
+    logical :: fail_on_no_convergence, elastic_reference
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(16)
-    namelist /solver/ method, precon, rtol, atol, max_iter, restart, fail_on_no_convergence, block_mode, flux_precon
+    namelist /solver/ method, precon, rtol, atol, max_iter, restart, fail_on_no_convergence, block_mode, flux_precon, &
+                     elastic_reference
 
     method = self%method; precon = self%precon; rtol = self%rtol; atol = self%atol
     max_iter = self%max_iter; restart = self%restart; fail_on_no_convergence = self%fail_on_no_convergence
-    block_mode = self%block_mode; flux_precon = self%flux_precon
+    block_mode = self%block_mode; flux_precon = self%flux_precon; elastic_reference = self%elastic_reference
     if (d%count('solver') > 0) then
       call d%block('solver', 1, b)
       read(b, nml=solver, iostat=ios, iomsg=msg)
@@ -91,6 +95,7 @@ contains
     self%fail_on_no_convergence = fail_on_no_convergence
     self%block_mode = block_mode
     self%flux_precon = flux_precon
+    self%elastic_reference = elastic_reference
     echo = ''
     write(echo, nml=solver, iostat=ios)
     call d%echo(log, echo)

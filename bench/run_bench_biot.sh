@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Poromechanics benchmark (issue 3): Mandel's problem (quarter model of
+# input/mandel.nml, nz = n/10 layers of cubes) at the seed's size 80 x 80 x 8
+# (389,627 unknowns before boundary conditions) and at 40 x 40 x 4, one time
+# step with gamma = dt = 0.15, 1 and 100 s, on 1 and 2 ranks: FGMRES + the
+# block preconditioner (LDU, fixed stress) to 1e-8, with the set-up split into
+# its dt-independent (T_p1) and dt-dependent (T_p2) parts, one CG + BoomerAMG
+# elasticity solve on the same mesh as the reference, and MUMPS on the same
+# system. Usage: bench/run_bench_biot.sh [sizes] [ranks] [gammas] [mumps: yes|no]
+set -u
+cd "$(dirname "$0")/.."
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+sizes=${1:-"40 80"}
+ranks=${2:-"1 2"}
+gammas=${3:-"0.15 1 100"}
+with_mumps=${4:-yes}
+out=build/bench
+mkdir -p "$out"
+table=$out/mandel.md
+echo "| mesh | unknowns | ranks | solver | gamma | iterations | T_p1 [s] | T_p2 [s] | T_s [s] | elastic AMG: its / setup / solve [s] | T_s / elastic solve | max RSS of a rank [MB] |" > "$table"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|" >> "$table"
+for n in $sizes; do
+  nz=$((n / 10))
+  for np in $ranks; do
+    for s in fgmres mumps; do
+      [ "$s" = mumps ] && [ "$with_mumps" != yes ] && continue
+      [ "$s" = mumps ] && [ "$np" != 1 ] && continue
+      for g in $gammas; do
+        [ "$s" = mumps ] && [ "$g" != 1 ] && continue
+        name=mandel_${n}_${s}_np${np}_g${g}
+        case $s in
+          fgmres) solver="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true." ;;
+          mumps)  solver="method = 'mumps'" ;;
+        esac
+        sed -e "s#nx = 20, ny = 20, nz = 1#nx = $n, ny = $n, nz = $nz#" \
+            -e "s#upper = 1.0, 1.0, 0.05#upper = 1.0, 1.0, $(echo "scale=6; $nz / $n" | bc)#" \
+            -e "s#dt = 0.05, t_end = 200.0, dt_growth = 1.12, dt_max = 5.0#dt = $g, t_end = $g, undrained = .false.#" \
+            -e "s#method = 'fgmres', precon = 'block', rtol = 1.0e-8#$solver#" \
+            -e "s#dir = 'out', prefix = 'mandel'#dir = '$out/$name', prefix = 'mandel', fields = .false.#" \
+            input/mandel.nml > "$out/$name.nml"
+        log=$out/$name.log
+        /usr/bin/time -v mpirun --oversubscribe -np "$np" bin/geoblock "$out/$name.nml" > "$log" 2>&1
+        tot=$(grep -m1 '^unknowns' "$log" | sed -E 's/.*total ([0-9]+).*/\1/')
+        step=$(grep -m1 '^step' "$log")
+        its=$(echo "$step" | sed -E 's/.*iterations +([0-9]+).*/\1/')
+        tp1=$(echo "$step" | sed -E 's/.*setup\(dt-indep.\) +([0-9.]+) s.*/\1/')
+        tp2=$(echo "$step" | sed -E 's/.*setup\(dt\) +([0-9.]+) s.*/\1/')
+        ts=$(echo "$step" | sed -E 's/.*solve +([0-9.]+) s.*/\1/')
+        ref=$(grep -m1 'elastic reference' "$log" | sed -E 's/.*iterations ([0-9]+),.*AMG setup +([0-9.]+) s, solve +([0-9.]+) s.*/\1 \/ \2 \/ \3/')
+        refs=$(grep -m1 'elastic reference' "$log" | sed -E 's/.*solve +([0-9.]+) s.*/\1/')
+        ratio="-"
+        [ -n "$refs" ] && ratio=$(echo "scale=2; $ts / $refs" | bc)
+        rss=$(grep -m1 'Maximum resident set size' "$log" | awk '{print int($NF/1024)}')
+        printf '| %sx%sx%s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$n" "$n" "$nz" "$tot" "$np" "$s" \
+          "$g" "$its" "$tp1" "$tp2" "$ts" "${ref:--}" "$ratio" "$rss" | tee -a "$table"
+      done
+    done
+  done
+done
+echo "table: $table"
