@@ -20,6 +20,7 @@ module biot_driver
   use solver_config, only: solver_config_t
   use amg_config, only: read_amg_config
   use biot_config, only: biot_config_t
+  use source_config, only: source_config_t, read_sources
   use amg_params, only: amg_params_t
   use mesh_builder, only: build_mesh
   use dist_mesh, only: dist_mesh_t
@@ -53,6 +54,7 @@ contains
     type(mesh_config_t) :: mcfg
     type(material_config_t), allocatable :: mats(:)
     type(boundary_config_t), allocatable :: bcs(:)
+    type(source_config_t), allocatable :: srcs(:)
     type(solver_config_t) :: scfg
     type(biot_config_t) :: bcfg
     type(amg_params_t) :: amg, amg_s
@@ -88,6 +90,7 @@ contains
     if (status%ok()) call read_amg_config(d, log, amg, status)
     if (status%ok()) call bcfg%read(d, log, status)
     if (status%ok()) call load_histories(comm, bcs, status)
+    if (status%ok()) call read_sources(d, log, srcs, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
     if (scfg%method == 'cg') call log%fatal(comm, "deck '"//trim(d%path)//"', group &solver, variable method: "// &
       "the Biot system is not symmetric positive definite: use 'fgmres' or 'mumps'")
@@ -98,7 +101,7 @@ contains
     call build_mesh(comm, mcfg, log, mesh, status)
     call timers%stop('mesh')
     if (.not. status%ok()) call log%fatal(comm, status%msg)
-    call phys%init(mesh, mats, bcs, bcfg%beta(), status)
+    call phys%init(mesh, mats, bcs, srcs, bcfg%beta(), status)
     call agree(comm, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
     call log%info('unknowns: u '//itoa(int(phys%mech%u%map%n_global))//', q '//itoa(int(phys%qd%map%n_global))// &
@@ -132,7 +135,11 @@ contains
         dt = 0.0_rp
       else
         if (t >= run%t_end * (1.0_rp - 1.0e-12_rp)) exit
-        dt = min(run%dt * run%dt_growth**(step - 1), run%dt_max, run%t_end - t)
+        if (allocated(run%times)) then
+          dt = run%times(step) - t
+        else
+          dt = min(run%dt * run%dt_growth**(step - 1), run%dt_max, run%t_end - t)
+        end if
       end if
       call timers%start('assembly')
       call phys%assemble(mesh, t + dt, dt, status)

@@ -30,6 +30,7 @@ module poromechanics
   use elasticity, only: elasticity_t, lame
   use material_config, only: material_config_t
   use boundary_config, only: boundary_config_t
+  use source_config, only: source_config_t
   implicit none
   private
 
@@ -45,6 +46,7 @@ module poromechanics
     real(rp), allocatable :: x(:), x_old(:)   !< state at the new and the previous time (block vectors)
     real(rp), allocatable :: biot(:), inv_m(:), kdr(:), kinv(:,:,:)   !< per region
     real(rp), allocatable :: vol(:)           !< local cell volumes [m^3]
+    real(rp), allocatable :: src_rate(:)      !< fluid source per region [1/s]
     logical, allocatable :: q_fixed(:)        !< local faces with a prescribed flux (0 = no flow)
     real(rp), allocatable :: q_value(:)       !< prescribed flux through local faces [m^3/s]
     real(rp), allocatable :: p_bc(:)          !< pressure of pressure faces [Pa], by local face
@@ -66,11 +68,12 @@ contains
 
   !> Dofs, block patterns, materials and boundary data. stab_beta > 0 turns
   !> on the pressure-jump stabilization with that factor (0: off). Collective.
-  subroutine init(self, mesh, mats, bcs, stab_beta, status)
+  subroutine init(self, mesh, mats, bcs, srcs, stab_beta, status)
     class(poromechanics_t), intent(inout) :: self
     type(dist_mesh_t), intent(in), target :: mesh
     type(material_config_t), intent(in) :: mats(:)
     type(boundary_config_t), intent(in) :: bcs(:)
+    type(source_config_t), intent(in) :: srcs(:)
     real(rp), intent(in) :: stab_beta
     type(error_status_t), intent(inout) :: status
     integer(ip), allocatable :: row_ptr(:), col(:), cells(:,:)
@@ -129,6 +132,16 @@ contains
     self%x = 0.0_rp
     self%x_old = 0.0_rp
 
+    allocate(self%src_rate(nreg))
+    self%src_rate = 0.0_rp
+    do i = 1, size(srcs, kind=ip)
+      r = mesh%region_id(srcs(i)%region)
+      if (r == 0) then
+        call status%set("&source in region '"//trim(srcs(i)%region)//"', which the mesh does not have")
+        return
+      end if
+      self%src_rate(r) = self%src_rate(r) + srcs(i)%rate
+    end do
     allocate(self%vol(mesh%n_cells))
     do c = 1, mesh%n_cells
       self%vol(c) = mesh%cell_volume(c)
@@ -333,8 +346,9 @@ contains
         if (dt > 0.0_rp) call self%sys%a(ipr, iq)%add_value(c, f, dt * be(j))
         if (self%p_face(f)) q_loc(f) = q_loc(f) - self%p_bc(f) * self%bcs(self%face_bc(f))%factor(t_new)
       end do
-      ! storage
+      ! storage and sources
       call self%sys%a(ipr, ipr)%add_value(c, c, self%vol(c) * self%inv_m(r))
+      self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) + dt * self%src_rate(r) * self%vol(c)
       ! pressure-jump stabilization on the pressure increment
       do j = 1, 6
         f = faces(j)
@@ -467,6 +481,7 @@ contains
     if (allocated(self%rhs)) deallocate(self%rhs, self%x, self%x_old)
     if (allocated(self%biot)) deallocate(self%biot, self%inv_m, self%kdr, self%kinv)
     if (allocated(self%vol)) deallocate(self%vol)
+    if (allocated(self%src_rate)) deallocate(self%src_rate)
     if (allocated(self%q_fixed)) deallocate(self%q_fixed, self%q_value, self%p_face, self%p_bc, self%face_bc)
     if (allocated(self%bcs)) deallocate(self%bcs)
     if (allocated(self%a_norm)) deallocate(self%a_norm)

@@ -10,6 +10,8 @@
 !>           dt_growth    biot: ratio of successive steps (>= 1)             [1]
 !>           dt_max       biot: largest step [s]                             [no limit]
 !>           undrained    biot: start with the undrained response at t = 0  [.true.]
+!>           times        biot: explicit list of step end times [s], increasing;
+!>                        replaces dt, dt_growth, dt_max and t_end          [none]
 !> &output   dir          output directory (created if missing)             ['out']
 !>           prefix       file name prefix                        [deck file name without .nml]
 !>           fields       write HDF5 fields + XDMF each step                  [.true.]
@@ -26,6 +28,8 @@ module run_config
 
   public :: run_config_t
 
+  integer, parameter :: max_times = 4096
+
   type :: run_config_t
     character(len=128) :: title = ''
     character(len=name_len) :: physics = 'elasticity'
@@ -33,6 +37,7 @@ module run_config
     integer :: n_steps = 1
     real(rp) :: dt = -1.0_rp, t_end = -1.0_rp, dt_growth = 1.0_rp, dt_max = huge(1.0_rp)
     logical :: undrained = .true.
+    real(rp), allocatable :: times(:)            !< explicit step end times (biot), if given
     character(len=path_len) :: out_dir = 'out'
     character(len=name_len) :: prefix = ''
     logical :: fields = .true.
@@ -52,8 +57,9 @@ contains
     character(len=128) :: title
     character(len=name_len) :: physics
     integer :: verbosity, n_steps, ios, p
-    real(rp) :: dt, t_end, dt_growth, dt_max
+    real(rp) :: dt, t_end, dt_growth, dt_max, times(max_times)
     logical :: undrained
+    integer :: nt
     character(len=path_len) :: dir
     character(len=name_len) :: prefix
     logical :: fields, export_matrix
@@ -61,7 +67,7 @@ contains
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(16)
     namelist /run/ title, physics, verbosity
-    namelist /time/ n_steps, dt, t_end, dt_growth, dt_max, undrained
+    namelist /time/ n_steps, dt, t_end, dt_growth, dt_max, undrained, times
     namelist /output/ dir, prefix, fields, export_matrix
 
     title = ''; physics = 'elasticity'; verbosity = 1
@@ -78,6 +84,7 @@ contains
         call d%fail(status, 'run', 1, 'verbosity', 'must be 0, 1 or 2 (got '//itoa(verbosity)//')')
     end if
     n_steps = 1; dt = unset_real; t_end = unset_real; dt_growth = 1.0_rp; dt_max = huge(1.0_rp); undrained = .true.
+    times = unset_real
     if (d%count('time') > 0) then
       call d%block('time', 1, b)
       read(b, nml=time, iostat=ios, iomsg=msg)
@@ -86,6 +93,20 @@ contains
         return
       end if
       if (n_steps < 1) call d%fail(status, 'time', 1, 'n_steps', 'must be at least 1 (got '//itoa(n_steps)//')')
+    end if
+    nt = count(times /= unset_real)
+    if (nt > 0) then
+      if (any(times(nt+1:) /= unset_real)) call d%fail(status, 'time', 1, 'times', 'give the times without gaps')
+      if (.not. times(1) > 0.0_rp) call d%fail(status, 'time', 1, 'times', 'the first time must be positive')
+      if (nt > 1) then
+        if (any(times(2:nt) <= times(1:nt-1))) call d%fail(status, 'time', 1, 'times', 'times must increase')
+      end if
+      if (dt /= unset_real .or. t_end /= unset_real) &
+        call d%fail(status, 'time', 1, 'times', 'give either times or dt and t_end, not both')
+      if (status%ok()) then
+        dt = times(1)
+        t_end = times(nt)
+      end if
     end if
     if (physics == 'biot') then
       if (dt == unset_real) then
@@ -127,6 +148,8 @@ contains
     self%dt_growth = dt_growth
     self%dt_max = dt_max
     self%undrained = undrained
+    if (allocated(self%times)) deallocate(self%times)
+    if (nt > 0) self%times = times(1:nt)
     self%out_dir = dir
     self%prefix = prefix
     self%fields = fields

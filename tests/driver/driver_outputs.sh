@@ -73,5 +73,24 @@ print(f"{n} x {m}, {nnz} non-zeros, symmetric positive definite, max |u| {abs(x)
 PY
 ); then ok "MatrixMarket export: $r"; else ko "MatrixMarket export: $r"; fi
 grep -q "max |u| = " "$out/export.stdout" && ok "summary line" || ko "no summary line"
+# 3. a fluid source in a sealed rigid box (biot, explicit step times): p = M rate t
+if timeout 120 mpirun --oversubscribe -np 2 bin/geoblock tests/decks/source_test.nml > "$out/source.stdout" 2>&1 < /dev/null; then
+  ok "source deck runs"
+else
+  ko "source deck fails, see $out/source.stdout"
+fi
+if r=$($PY - build/test-out/source <<'PY' 2>&1
+import sys
+sys.path.insert(0, "postproc")
+import numpy as np
+from geoblock_h5 import Run
+r = Run(sys.argv[1], "source")
+t = r.times()
+assert np.allclose(t, [0, 1, 2, 4]), t
+err = max(np.max(np.abs(r.field("pressure", i) - 1e9 * 1e-6 * t[i])) / 4e3 for i in range(len(t)))
+print(f"times {list(t)}, max |p - M rate t| / p_end = {err:.2e}")
+sys.exit(0 if err < 1e-10 else 1)
+PY
+); then ok "source: $r"; else ko "source: $r"; fi
 echo "suite driver_outputs: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -1,0 +1,56 @@
+!> Deck group &source (any number; physics = 'biot'): a fluid source spread
+!> uniformly over a region.
+!>
+!>   region   name of the mesh region                                  [required]
+!>   rate     volume of fluid injected per unit volume of rock and per
+!>            second [1/s] (negative: extraction)                       [required]
+module source_config
+  use kinds, only: rp, name_len, msg_len
+  use error_status, only: error_status_t
+  use logger, only: logger_t
+  use deck, only: deck_t, line_len, echo_len, unset_real
+  implicit none
+  private
+
+  public :: source_config_t, read_sources
+
+  type :: source_config_t
+    character(len=name_len) :: region = ''
+    real(rp) :: rate = 0.0_rp
+  end type source_config_t
+
+contains
+
+  !> Read every &source group.
+  subroutine read_sources(d, log, srcs, status)
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(inout) :: log
+    type(source_config_t), allocatable, intent(out) :: srcs(:)
+    type(error_status_t), intent(inout) :: status
+    character(len=name_len) :: region
+    real(rp) :: rate
+    integer :: k, ios
+    character(len=msg_len) :: msg
+    character(len=line_len), allocatable :: b(:)
+    character(len=echo_len) :: echo(8)
+    namelist /source/ region, rate
+    allocate(srcs(d%count('source')))
+    do k = 1, size(srcs)
+      region = ''
+      rate = unset_real
+      call d%block('source', k, b)
+      read(b, nml=source, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call d%read_error('source', k, ios, msg, status)
+        return
+      end if
+      if (len_trim(region) == 0) call d%fail(status, 'source', k, 'region', 'required')
+      if (rate == unset_real) call d%fail(status, 'source', k, 'rate', 'required')
+      if (.not. status%ok()) return
+      srcs(k) = source_config_t(region, rate)
+      echo = ''
+      write(echo, nml=source, iostat=ios)
+      call d%echo(log, echo)
+    end do
+  end subroutine read_sources
+end module source_config
