@@ -185,7 +185,11 @@ contains
         end if
         if (dt /= dt_used) then
           t0 = wall_time()
-          call phys%fixed_stress_schur(mesh, dt, s)
+          if (scfg%schur == 'algebraic') then
+            call phys%algebraic_schur(mesh, dt, s)
+          else
+            call phys%fixed_stress_schur(mesh, dt, s)
+          end if
           select type (m => bp%sub(ipr)%p)
           type is (boomeramg_precon_t)
             call m%free()

@@ -60,6 +60,7 @@ module poromechanics
     procedure :: init
     procedure :: assemble
     procedure :: fixed_stress_schur
+    procedure :: algebraic_schur
     procedure :: cell_velocity
     procedure :: free
   end type poromechanics_t
@@ -455,6 +456,90 @@ contains
     end do
     call s%finalize_assembly()
   end subroutine fixed_stress_schur
+
+  !> The pressure Schur complement approximated with the algebraic
+  !> generalization of fixed stress (Ferronato, Franceschini, Janna,
+  !> Castelletto and Tchelepi, J. Comput. Phys. 398 (2019)): S_K is replaced by
+  !> Q^T diag(K)^-1 Q instead of the per-cell b^2 |c| / K_dr, so that it sees
+  !> the actual stiffness and boundary conditions; S = P + J + Q^T diag(K)^-1 Q
+  !> + dt S_A, on the pattern of cells sharing a node. Call after assemble.
+  !> Collective.
+  subroutine algebraic_schur(self, mesh, dt, s)
+    class(poromechanics_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: dt
+    type(csr_matrix_t), intent(inout) :: s
+    integer(ip), allocatable :: node_cells(:,:), cnt(:), row_ptr(:), col(:)
+    real(rp), allocatable :: qc(:,:), dk(:)
+    real(rp) :: xe(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det
+    integer(ip) :: c, a, k, q, i, nd, c2, a2, j, f, other, r, u0, u1
+    ! Q of every local cell, and the cells around each local node
+    call gauss_hex(2_ip, xi, w)
+    allocate(qc(24, mesh%n_cells), cnt(mesh%n_nodes))
+    cnt = 0
+    do c = 1, mesh%n_cells
+      cnt(mesh%cell_nodes(:, c)) = cnt(mesh%cell_nodes(:, c)) + 1
+    end do
+    allocate(node_cells(maxval(cnt), mesh%n_nodes))
+    node_cells = 0
+    cnt = 0
+    do c = 1, mesh%n_cells
+      xe = mesh%coords(:, mesh%cell_nodes(:, c))
+      qc(:, c) = 0.0_rp
+      do q = 1, 8
+        call hex_gradients(xe, xi(:, q), n, g, det)
+        do a = 1, 8
+          qc(3*a-2:3*a, c) = qc(3*a-2:3*a, c) + self%biot(mesh%cell_region(c)) * g(:, a) * det * w(q)
+        end do
+      end do
+      do a = 1, 8
+        nd = mesh%cell_nodes(a, c)
+        cnt(nd) = cnt(nd) + 1
+        node_cells(cnt(nd), nd) = c
+      end do
+    end do
+    if (.not. allocated(s%val)) then
+      call element_pattern(mesh%cell_map%n_owned, node_cells, node_cells, 1_ip, 1_ip, row_ptr, col)
+      call s%init(self%pd%map, self%pd%map, row_ptr, col)
+    end if
+    ! diagonal of K on every local dof
+    allocate(dk(self%mech%u%n_local()))
+    dk = 1.0_rp
+    call self%sys%block_range(iu, u0, u1)
+    call self%sys%a(iu, iu)%diagonal(dk(1:u1 - u0 + 1))
+    call self%mech%u%map%import(dk)
+    call s%zero()
+    do c = 1, mesh%cell_map%n_owned
+      r = mesh%cell_region(c)
+      call s%add_value(c, c, self%vol(c) * self%inv_m(r))
+      do a = 1, 8
+        nd = mesh%cell_nodes(a, c)
+        do k = 1, cnt(nd)
+          c2 = node_cells(k, nd)
+          a2 = findloc(mesh%cell_nodes(:, c2), nd, dim=1)
+          do i = 1, 3
+            j = self%mech%u%dof(nd, i)
+            if (self%mech%fixed(j)) cycle
+            call s%add_value(c, c2, qc(3*(a-1)+i, c) * qc(3*(a2-1)+i, c2) / dk(j))
+          end do
+        end do
+      end do
+      do j = 1, 6
+        f = mesh%cell_faces(j, c)
+        other = mesh%face_cells(1, f)
+        if (other == c) other = mesh%face_cells(2, f)
+        if (self%jump_w(f) /= 0.0_rp) then
+          call s%add_value(c, c, self%jump_w(f))
+          call s%add_value(c, other, -self%jump_w(f))
+        end if
+        if (dt <= 0.0_rp .or. self%q_fixed(f)) cycle
+        call s%add_value(c, c, dt / self%a_norm(f))
+        if (other == 0 .or. mesh%face_on_boundary(f)) cycle
+        call s%add_value(c, other, -dt / self%a_norm(f))
+      end do
+    end do
+    call s%finalize_assembly()
+  end subroutine algebraic_schur
 
   !> Darcy velocity at the centre of each owned cell [m/s] from the fluxes
   !> q_loc (all local faces, ghosts up to date).

@@ -8,6 +8,9 @@
 !>             of the block factorization                               ['ldu']
 !>   elastic_reference  biot: also solve K u = f once with CG and the same
 !>             BoomerAMG (the reference cost of the benchmarks)          [.false.]
+!>   schur     biot: approximation of Q^T K^-1 Q in the pressure Schur
+!>             complement: 'fixed_stress' (b^2 |c| / K_dr per cell) or
+!>             'algebraic' (Q^T diag(K)^-1 Q)                            ['fixed_stress']
 !>   flux_precon biot: preconditioner of the Darcy mass block A:
 !>             'jacobi' (its diagonal) or 'boomeramg'                    ['jacobi']
 !>   rtol      relative residual tolerance, 0 < rtol < 1                 [1e-8]
@@ -37,6 +40,7 @@ module solver_config
     character(len=name_len) :: block_mode = 'ldu'
     character(len=name_len) :: flux_precon = 'jacobi'
     logical :: elastic_reference = .false.
+    character(len=name_len) :: schur = 'fixed_stress'
   contains
     procedure :: read => read_solver_config
   end type solver_config_t
@@ -49,7 +53,7 @@ contains
     type(deck_t), intent(in) :: d
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
-    character(len=name_len) :: method, precon, block_mode, flux_precon
+    character(len=name_len) :: method, precon, block_mode, flux_precon, schur
     real(rp) :: rtol, atol
     integer :: max_iter, restart, ios
     logical :: fail_on_no_convergence, elastic_reference
@@ -57,11 +61,12 @@ contains
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(16)
     namelist /solver/ method, precon, rtol, atol, max_iter, restart, fail_on_no_convergence, block_mode, flux_precon, &
-                     elastic_reference
+                     elastic_reference, schur
 
     method = self%method; precon = self%precon; rtol = self%rtol; atol = self%atol
     max_iter = self%max_iter; restart = self%restart; fail_on_no_convergence = self%fail_on_no_convergence
     block_mode = self%block_mode; flux_precon = self%flux_precon; elastic_reference = self%elastic_reference
+    schur = self%schur
     if (d%count('solver') > 0) then
       call d%block('solver', 1, b)
       read(b, nml=solver, iostat=ios, iomsg=msg)
@@ -78,6 +83,8 @@ contains
     if (block_mode /= 'ldu' .and. block_mode /= 'lower' .and. block_mode /= 'upper' .and. block_mode /= 'diagonal') &
       call d%fail(status, 'solver', 1, 'block_mode', "must be one of 'ldu', 'lower', 'upper', 'diagonal' (got '"// &
                   trim(block_mode)//"')")
+    if (schur /= 'fixed_stress' .and. schur /= 'algebraic') &
+      call d%fail(status, 'solver', 1, 'schur', "must be 'fixed_stress' or 'algebraic' (got '"//trim(schur)//"')")
     if (flux_precon /= 'jacobi' .and. flux_precon /= 'boomeramg') &
       call d%fail(status, 'solver', 1, 'flux_precon', "must be 'jacobi' or 'boomeramg' (got '"//trim(flux_precon)//"')")
     if (.not. (rtol > 0.0_rp .and. rtol < 1.0_rp)) &
@@ -96,6 +103,7 @@ contains
     self%block_mode = block_mode
     self%flux_precon = flux_precon
     self%elastic_reference = elastic_reference
+    self%schur = schur
     echo = ''
     write(echo, nml=solver, iostat=ios)
     call d%echo(log, echo)
