@@ -245,7 +245,8 @@ contains
           call log%fatal(comm, 'step '//itoa(step)//': the linear solver did not converge: '//trim(info%msg))
         call log%warn('step '//itoa(step)//': the linear solver did not converge: '//trim(info%msg))
       end if
-      if (run%fields) then
+      if (run%fields .and. (mod(step, run%every) == 0 .or. step <= 1 .or. &
+          t >= run%t_end * (1.0_rp - 1.0e-12_rp))) then
         call timers%start('output')
         call write_fields(out, mesh, phys, t, status)
         call timers%stop('output')

@@ -131,7 +131,7 @@ contains
       u_loc(1:size(x)) = x
       call phys%u%map%import(u_loc)
       call phys%cell_stress(mesh, u_loc, stress)
-      if (run%fields) then
+      if (run%fields .and. (mod(step, run%every) == 0 .or. step == 1 .or. step == run%n_steps)) then
         call timers%start('output')
         call out%write_step(mesh, lf, u_loc, stress, status)
         call timers%stop('output')

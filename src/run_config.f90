@@ -14,7 +14,8 @@
 !>                        replaces dt, dt_growth, dt_max and t_end          [none]
 !> &output   dir          output directory (created if missing)             ['out']
 !>           prefix       file name prefix                        [deck file name without .nml]
-!>           fields       write HDF5 fields + XDMF each step                  [.true.]
+!>           fields       write HDF5 fields + XDMF                             [.true.]
+!>           every        write every n-th step (the first and the last always) [1]
 !>           export_matrix  write the assembled matrix and right-hand side of
 !>                        the first step in MatrixMarket format                [.false.]
 module run_config
@@ -41,6 +42,7 @@ module run_config
     character(len=path_len) :: out_dir = 'out'
     character(len=name_len) :: prefix = ''
     logical :: fields = .true.
+    integer :: every = 1
     logical :: export_matrix = .false.
   contains
     procedure :: read => read_run_config
@@ -63,12 +65,13 @@ contains
     character(len=path_len) :: dir
     character(len=name_len) :: prefix
     logical :: fields, export_matrix
+    integer :: every
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(16)
     namelist /run/ title, physics, verbosity
     namelist /time/ n_steps, dt, t_end, dt_growth, dt_max, undrained, times
-    namelist /output/ dir, prefix, fields, export_matrix
+    namelist /output/ dir, prefix, fields, export_matrix, every
 
     title = ''; physics = 'elasticity'; verbosity = 1
     if (d%count('run') > 0) then
@@ -122,7 +125,7 @@ contains
       if (.not. dt_growth >= 1.0_rp) call d%fail(status, 'time', 1, 'dt_growth', 'must be >= 1 (got '//rtoa(dt_growth)//')')
       if (.not. dt_max > 0.0_rp) call d%fail(status, 'time', 1, 'dt_max', 'must be positive (got '//rtoa(dt_max)//')')
     end if
-    dir = 'out'; fields = .true.; export_matrix = .false.
+    dir = 'out'; fields = .true.; export_matrix = .false.; every = 1
     ! default prefix: the deck's file name without directory and extension
     prefix = d%path(index(d%path, '/', back=.true.) + 1:)
     p = index(prefix, '.', back=.true.)
@@ -135,6 +138,7 @@ contains
         return
       end if
       if (len_trim(dir) == 0) call d%fail(status, 'output', 1, 'dir', 'must not be empty')
+      if (every < 1) call d%fail(status, 'output', 1, 'every', 'must be at least 1 (got '//itoa(every)//')')
       if (len_trim(prefix) == 0 .or. index(trim(prefix), '/') > 0 .or. index(trim(prefix), ' ') > 0) &
         call d%fail(status, 'output', 1, 'prefix', 'must be a plain file name (no blanks or /)')
     end if
@@ -153,6 +157,7 @@ contains
     self%out_dir = dir
     self%prefix = prefix
     self%fields = fields
+    self%every = every
     self%export_matrix = export_matrix
     echo = ''
     write(echo, nml=run, iostat=ios)

@@ -92,5 +92,19 @@ print(f"times {list(t)}, max |p - M rate t| / p_end = {err:.2e}")
 sys.exit(0 if err < 1e-10 else 1)
 PY
 ); then ok "source: $r"; else ko "source: $r"; fi
+# 4. output every n-th step: Mandel to t = 3 s (steps 0..25) with every = 10
+sed -e "s#dir = 'out', prefix = 'mandel'#dir = '$out/every', prefix = 'mandel', every = 10#" -e "s#t_end = 200.0#t_end = 3.0#" \
+  input/mandel.nml > "$out/every.nml"
+timeout 120 mpirun --oversubscribe -np 2 bin/geoblock "$out/every.nml" > "$out/every.stdout" 2>&1 < /dev/null
+nsteps=$(grep -c '^step' "$out/every.stdout")
+nfiles=$(ls "$out/every"/mandel_[0-9]*.h5 2>/dev/null | wc -l)
+last=$((nsteps - 1))
+expect=$(( 2 + last / 10 ))
+[ $((last % 10)) -ne 0 ] && expect=$((expect + 1))
+if [ "$nfiles" -eq "$expect" ] && [ "$nsteps" -gt 10 ]; then
+  ok "every = 10: $nsteps steps, $nfiles output files (steps 0, 1, multiples of 10, last)"
+else
+  ko "every = 10: $nsteps steps, $nfiles output files, expected $expect"
+fi
 echo "suite driver_outputs: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
