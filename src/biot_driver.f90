@@ -9,6 +9,7 @@ module biot_driver
   use kinds, only: rp, ip, gp, msg_len, path_len
   use parallel_comm, only: parallel_comm_t, wall_time
   use error_status, only: error_status_t
+  use status_sync, only: agree
   use logger, only: logger_t
   use timer_set, only: timer_set_t
   use strings, only: itoa, rtoa
@@ -352,17 +353,6 @@ contains
     bn = pnorm2(comm, phys%rhs)
     residual_norm = pnorm2(comm, r) / max(bn, tiny(1.0_rp))
   end function residual_norm
-
-  subroutine agree(comm, status)
-    type(parallel_comm_t), intent(in) :: comm
-    type(error_status_t), intent(inout) :: status
-    integer :: code
-    character(len=msg_len) :: msg
-    code = status%code
-    msg = status%msg
-    call comm%sync_error(code, msg)
-    if (code /= 0) call status%set(msg, code)
-  end subroutine agree
 
   subroutine open_output(out, mesh, run, status)
     type(xdmf_writer_t), intent(inout) :: out

@@ -4,6 +4,7 @@ module elastic_driver
   use kinds, only: rp, ip, gp, msg_len, path_len
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
+  use status_sync, only: agree
   use logger, only: logger_t
   use timer_set, only: timer_set_t
   use strings, only: itoa, rtoa
@@ -148,17 +149,6 @@ contains
     call mesh%free()
   end subroutine run_elasticity
 
-  !> Same status on every rank (the first failing rank's message).
-  subroutine agree(comm, status)
-    type(parallel_comm_t), intent(in) :: comm
-    type(error_status_t), intent(inout) :: status
-    integer :: code
-    character(len=msg_len) :: msg
-    code = status%code
-    msg = status%msg
-    call comm%sync_error(code, msg)
-    if (code /= 0) call status%set(msg, code)
-  end subroutine agree
 
   !> Matrix and right-hand side of the first step, MatrixMarket format.
   subroutine write_exports(comm, log, phys, base)

@@ -5,7 +5,7 @@ module hex_q1
   implicit none
   private
 
-  public :: hex_shape, hex_gradients, quad_shape, quad_area_vector
+  public :: hex_shape, hex_gradients, quad_shape, quad_area_vector, inverse3
 
   !> Reference coordinates of the 8 nodes.
   real(rp), parameter :: s(3, 8) = reshape([ &
@@ -37,20 +37,26 @@ contains
     real(rp) :: dn(3, 8), j(3, 3), ji(3, 3)
     call hex_shape(xi, n, dn)
     j = matmul(dn, transpose(x))      ! j(r, i) = d x_i / d xi_r
-    det = j(1,1)*(j(2,2)*j(3,3)-j(2,3)*j(3,2)) - j(1,2)*(j(2,1)*j(3,3)-j(2,3)*j(3,1)) &
-        + j(1,3)*(j(2,1)*j(3,2)-j(2,2)*j(3,1))
-    ji(1,1) = j(2,2)*j(3,3) - j(2,3)*j(3,2)
-    ji(1,2) = j(1,3)*j(3,2) - j(1,2)*j(3,3)
-    ji(1,3) = j(1,2)*j(2,3) - j(1,3)*j(2,2)
-    ji(2,1) = j(2,3)*j(3,1) - j(2,1)*j(3,3)
-    ji(2,2) = j(1,1)*j(3,3) - j(1,3)*j(3,1)
-    ji(2,3) = j(1,3)*j(2,1) - j(1,1)*j(2,3)
-    ji(3,1) = j(2,1)*j(3,2) - j(2,2)*j(3,1)
-    ji(3,2) = j(1,2)*j(3,1) - j(1,1)*j(3,2)
-    ji(3,3) = j(1,1)*j(2,2) - j(1,2)*j(2,1)
-    ji = ji / det
+    call inverse3(j, ji, det)
     g = matmul(ji, dn)                ! g(i, a) = d n_a / d x_i
   end subroutine hex_gradients
+
+  !> Inverse ai and determinant det of a 3x3 matrix a (adjugate / det).
+  pure subroutine inverse3(a, ai, det)
+    real(rp), intent(in) :: a(3, 3)
+    real(rp), intent(out) :: ai(3, 3), det
+    ai(1,1) = a(2,2)*a(3,3) - a(2,3)*a(3,2)
+    ai(1,2) = a(1,3)*a(3,2) - a(1,2)*a(3,3)
+    ai(1,3) = a(1,2)*a(2,3) - a(1,3)*a(2,2)
+    ai(2,1) = a(2,3)*a(3,1) - a(2,1)*a(3,3)
+    ai(2,2) = a(1,1)*a(3,3) - a(1,3)*a(3,1)
+    ai(2,3) = a(1,3)*a(2,1) - a(1,1)*a(2,3)
+    ai(3,1) = a(2,1)*a(3,2) - a(2,2)*a(3,1)
+    ai(3,2) = a(1,2)*a(3,1) - a(1,1)*a(3,2)
+    ai(3,3) = a(1,1)*a(2,2) - a(1,2)*a(2,1)
+    det = a(1,1)*ai(1,1) + a(1,2)*ai(2,1) + a(1,3)*ai(3,1)
+    ai = ai / det
+  end subroutine inverse3
 
   !> Bilinear quadrilateral shape functions at xi in [-1,1]^2 (nodes counter-
   !> clockwise) and their reference derivatives dn(2,4).

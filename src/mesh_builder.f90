@@ -1,9 +1,10 @@
 !> From the &mesh group to the distributed mesh: rank 0 generates or reads the
 !> global mesh and partitions it with METIS; then every rank takes its part.
 module mesh_builder
-  use kinds, only: ip, msg_len
+  use kinds, only: ip
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
+  use status_sync, only: agree
   use logger, only: logger_t
   use mesh, only: mesh_t
   use box_mesh, only: build_box_mesh
@@ -28,8 +29,6 @@ contains
     type(error_status_t), intent(inout) :: status
     type(mesh_t) :: gmesh
     integer(ip), allocatable :: part(:)
-    integer :: code
-    character(len=msg_len) :: msg
 
     if (comm%is_root()) then
       select case (cfg%source)
@@ -43,13 +42,8 @@ contains
         call partition_cells(gmesh, int(comm%size, ip), part, status)
       end if
     end if
-    code = status%code
-    msg = status%msg
-    call comm%sync_error(code, msg)
-    if (code /= 0) then
-      call status%set(msg, code)
-      return
-    end if
+    call agree(comm, status)
+    if (.not. status%ok()) return
     if (comm%is_root()) then
       call log%info('mesh: '//itoa(gmesh%n_nodes)//' nodes, '//itoa(gmesh%n_cells)//' hexahedra, '// &
                     itoa(gmesh%n_faces)//' faces, '//itoa(size(gmesh%region_names))//' region(s), '// &

@@ -25,7 +25,7 @@ module poromechanics
   use dof_map, only: dof_map_t
   use sparsity, only: element_pattern
   use quadrature, only: gauss_hex
-  use hex_q1, only: hex_gradients
+  use hex_q1, only: hex_gradients, inverse3
   use hex_rt0, only: rt0_cell_mass, rt0_cell_divergence, rt0_values, rt0_orient
   use elasticity, only: elasticity_t, lame
   use material_config, only: material_config_t
@@ -79,7 +79,7 @@ contains
     type(error_status_t), intent(inout) :: status
     integer(ip), allocatable :: row_ptr(:), col(:), cells(:,:)
     integer(ip) :: r, m, i, c, b, s, f, nreg
-    real(rp) :: lam, mu, km(3, 3)
+    real(rp) :: lam, mu, km(3, 3), det
 
     call self%free()
     call self%mech%init(mesh, mats, bcs, status)
@@ -100,8 +100,7 @@ contains
       self%inv_m(r) = mats(m)%inv_biot_modulus
       call lame(mats(m)%young, mats(m)%poisson, lam, mu)
       self%kdr(r) = lam + 2.0_rp * mu / 3.0_rp
-      km = mats(m)%perm
-      call invert3(km)
+      call inverse3(mats(m)%perm, km, det)
       self%kinv(:, :, r) = mats(m)%viscosity * km
     end do
 
@@ -241,23 +240,6 @@ contains
       face_area = face_area + wq(q) * norm2(quad_area_vector(mesh%coords(:, mesh%face_nodes(:, f)), xq(:, q)))
     end do
   end function face_area
-
-  !> In-place inverse of a 3x3 matrix.
-  subroutine invert3(a)
-    real(rp), intent(inout) :: a(3, 3)
-    real(rp) :: b(3, 3), det
-    b(1,1) = a(2,2)*a(3,3) - a(2,3)*a(3,2)
-    b(1,2) = a(1,3)*a(3,2) - a(1,2)*a(3,3)
-    b(1,3) = a(1,2)*a(2,3) - a(1,3)*a(2,2)
-    b(2,1) = a(2,3)*a(3,1) - a(2,1)*a(3,3)
-    b(2,2) = a(1,1)*a(3,3) - a(1,3)*a(3,1)
-    b(2,3) = a(1,3)*a(2,1) - a(1,1)*a(2,3)
-    b(3,1) = a(2,1)*a(3,2) - a(2,2)*a(3,1)
-    b(3,2) = a(1,2)*a(3,1) - a(1,1)*a(3,2)
-    b(3,3) = a(1,1)*a(2,2) - a(1,2)*a(2,1)
-    det = a(1,1)*b(1,1) + a(1,2)*b(2,1) + a(1,3)*b(3,1)
-    a = b / det
-  end subroutine invert3
 
   !> Assemble the block system and right-hand side of the step to the new
   !> time t_new with gamma = dt (0: undrained step), from the state x_old.

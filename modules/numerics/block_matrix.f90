@@ -145,7 +145,7 @@ contains
     type(parallel_comm_t) :: comm
     integer(gp), allocatable :: sizes(:,:), first(:), ghost_gid(:)
     integer(ip), allocatable :: row_ptr(:), col(:), nnz_row(:)
-    integer(ip) :: i, j, r, k, n, nghost, p, bi, bj, r0, r1
+    integer(ip) :: i, r, k, n, nghost, p, bi, bj, r0, r1
     integer(gp) :: g
     type(index_map_t), pointer :: cm
     integer(ip), allocatable :: order(:)
@@ -212,14 +212,7 @@ contains
         if (.not. self%has(bi, bj)) cycle
         do r = 1, r1 - r0 + 1
           do k = self%a(bi, bj)%row_ptr(r), self%a(bi, bj)%row_ptr(r+1) - 1
-            j = self%a(bi, bj)%col(k)
-            if (j <= self%a(bi, bj)%col_map%n_owned) then
-              g = cmap%first + self%offset(bj) + j - 1
-            else
-              cm => self%a(bi, bj)%col_map
-              p = cm%ghost_owner(j - cm%n_owned)
-              g = first(p) + sum(sizes(1:bj-1, p)) + (cm%ghost_gid(j - cm%n_owned) - cm%offsets(p))
-            end if
+            g = combined_gid(bi, bj, self%a(bi, bj)%col(k))
             i = r0 + r - 1
             col(row_ptr(i) + nnz_row(i)) = cmap%local_id(g)
             nnz_row(i) = nnz_row(i) + 1
@@ -245,19 +238,26 @@ contains
         if (.not. self%has(bi, bj)) cycle
         do r = 1, r1 - r0 + 1
           do k = self%a(bi, bj)%row_ptr(r), self%a(bi, bj)%row_ptr(r+1) - 1
-            j = self%a(bi, bj)%col(k)
-            if (j <= self%a(bi, bj)%col_map%n_owned) then
-              g = cmap%first + self%offset(bj) + j - 1
-            else
-              cm => self%a(bi, bj)%col_map
-              p = cm%ghost_owner(j - cm%n_owned)
-              g = first(p) + sum(sizes(1:bj-1, p)) + (cm%ghost_gid(j - cm%n_owned) - cm%offsets(p))
-            end if
+            g = combined_gid(bi, bj, self%a(bi, bj)%col(k))
             call m%add_value(r0 + r - 1, cmap%local_id(g), self%a(bi, bj)%val(k))
           end do
         end do
       end do
     end do
+  contains
+    !> Combined global id of local column j of block (bi, bj).
+    integer(gp) function combined_gid(bi, bj, j)
+      integer(ip), intent(in) :: bi, bj, j
+      type(index_map_t), pointer :: colm
+      integer(ip) :: owner
+      colm => self%a(bi, bj)%col_map
+      if (j <= colm%n_owned) then
+        combined_gid = cmap%first + self%offset(bj) + j - 1
+      else
+        owner = colm%ghost_owner(j - colm%n_owned)
+        combined_gid = first(owner) + sum(sizes(1:bj-1, owner)) + (colm%ghost_gid(j - colm%n_owned) - colm%offsets(owner))
+      end if
+    end function combined_gid
   end subroutine monolithic
 
   !> The column map of block column j (from any present block), or null.
