@@ -181,6 +181,17 @@ contains
             end select
           end if
           allocate(boomeramg_precon_t :: bp%sub(ipr)%p)
+          if (scfg%block_mode == 'ldu_cheap') then
+            allocate(jacobi_precon_t :: bp%lower(iu)%p, bp%lower(iq)%p)
+            select type (m => bp%lower(iu)%p)
+            type is (jacobi_precon_t)
+              call m%setup(phys%sys%a(iu, iu), status)
+            end select
+            select type (m => bp%lower(iq)%p)
+            type is (jacobi_precon_t)
+              call m%setup(phys%sys%a(iq, iq), status)
+            end select
+          end if
           setup_done = .true.
           t_p1 = wall_time() - t0
         end if

@@ -4,8 +4,9 @@
 !>             systems with an SPD preconditioner) or 'mumps' (direct)     ['fgmres']
 !>   precon    'boomeramg' (settings in &amg), 'jacobi' or 'none'; for
 !>             physics = 'biot': 'block' (the block preconditioner)      ['boomeramg', biot: 'block']
-!>   block_mode  biot: 'ldu', 'lower', 'upper' or 'diagonal' application
-!>             of the block factorization                               ['ldu']
+!>   block_mode  biot: 'ldu', 'ldu_cheap' (Jacobi in the lower factor, one
+!>             AMG cycle of K per iteration), 'lower', 'upper' or 'diagonal'
+!>             application of the block factorization                   ['ldu_cheap']
 !>   elastic_reference  biot: also solve K u = f once with CG and the same
 !>             BoomerAMG (the reference cost of the benchmarks)          [.false.]
 !>   schur     biot: approximation of Q^T K^-1 Q in the pressure Schur
@@ -37,7 +38,7 @@ module solver_config
     integer :: max_iter = 1000
     integer :: restart = 100
     logical :: fail_on_no_convergence = .true.
-    character(len=name_len) :: block_mode = 'ldu'
+    character(len=name_len) :: block_mode = 'ldu_cheap'
     character(len=name_len) :: flux_precon = 'jacobi'
     logical :: elastic_reference = .false.
     character(len=name_len) :: schur = 'fixed_stress'
@@ -80,9 +81,10 @@ contains
     if (precon /= 'boomeramg' .and. precon /= 'jacobi' .and. precon /= 'none' .and. precon /= 'block') &
       call d%fail(status, 'solver', 1, 'precon', "must be one of 'boomeramg', 'jacobi', 'none', 'block' (got '"// &
                   trim(precon)//"')")
-    if (block_mode /= 'ldu' .and. block_mode /= 'lower' .and. block_mode /= 'upper' .and. block_mode /= 'diagonal') &
-      call d%fail(status, 'solver', 1, 'block_mode', "must be one of 'ldu', 'lower', 'upper', 'diagonal' (got '"// &
-                  trim(block_mode)//"')")
+    if (block_mode /= 'ldu' .and. block_mode /= 'lower' .and. block_mode /= 'upper' .and. block_mode /= 'diagonal' &
+        .and. block_mode /= 'ldu_cheap') &
+      call d%fail(status, 'solver', 1, 'block_mode', "must be one of 'ldu', 'ldu_cheap', 'lower', 'upper', "// &
+                  "'diagonal' (got '"//trim(block_mode)//"')")
     if (schur /= 'fixed_stress' .and. schur /= 'algebraic') &
       call d%fail(status, 'solver', 1, 'schur', "must be 'fixed_stress' or 'algebraic' (got '"//trim(schur)//"')")
     if (flux_precon /= 'jacobi' .and. flux_precon /= 'boomeramg') &

@@ -12,6 +12,9 @@
 !>   upper : z_n = S^-1 r_n; z_i = M_i (r_i - A_in z_n)
 !>   ldu   : lower, then z_i <- z_i - M_i (A_in z_n)
 !>   diagonal: z_i = M_i r_i; z_n = S^-1 r_n
+!>   ldu_cheap: z_n = S^-1 (r_n - sum_i An_i L_i r_i); z_i = M_i (r_i - A_in z_n)
+!>           with a cheap L_i ~ A_ii^-1 (e.g. Jacobi) in the lower factor only,
+!>           so that each M_i (e.g. an AMG cycle) is applied once per iteration
 !> The sub-preconditioners (BoomerAMG, Jacobi, MUMPS, aFSAI, ...) are any
 !> precon_t; the Schur approximation is built by the physics (e.g. fixed
 !> stress + scaled Laplacian) and handed over as a preconditioner of S.
@@ -36,6 +39,7 @@ module schur_block_precon
     character(len=16) :: mode = 'ldu'            !< diagonal | lower | upper | ldu
     type(block_matrix_t), pointer :: a => null()
     type(precon_box_t), allocatable :: sub(:)    !< (n): sub(n) approximates S^-1
+    type(precon_box_t), allocatable :: lower(:)  !< (n-1): the cheap L_i of ldu_cheap
     real(rp), allocatable :: t(:), y(:)
     integer :: n_apply = 0
   contains
@@ -57,6 +61,8 @@ contains
     self%mode = mode
     if (allocated(self%sub)) deallocate(self%sub)
     allocate(self%sub(a%nb))
+    if (allocated(self%lower)) deallocate(self%lower)
+    allocate(self%lower(a%nb))
     if (allocated(self%t)) deallocate(self%t, self%y)
     allocate(self%t(a%offset(a%nb + 1)), self%y(a%offset(a%nb + 1)))
   end subroutine init
@@ -75,6 +81,21 @@ contains
       do i = 1, n
         call self%a%block_range(i, a0, a1)
         call self%sub(i)%p%apply(r(a0:a1), z(a0:a1))
+      end do
+    case ('ldu_cheap')
+      self%y(n0:n1) = r(n0:n1)
+      do i = 1, n - 1
+        call self%a%block_range(i, a0, a1)
+        call self%lower(i)%p%apply(r(a0:a1), self%t(a0:a1))
+        call self%a%apply_block(n, i, self%t(a0:a1), z(n0:n1))    ! z_n is free until S is applied
+        self%y(n0:n1) = self%y(n0:n1) - z(n0:n1)
+      end do
+      call self%sub(n)%p%apply(self%y(n0:n1), z(n0:n1))
+      do i = 1, n - 1
+        call self%a%block_range(i, a0, a1)
+        call self%a%apply_block(i, n, z(n0:n1), self%t(a0:a1))
+        self%t(a0:a1) = r(a0:a1) - self%t(a0:a1)
+        call self%sub(i)%p%apply(self%t(a0:a1), z(a0:a1))
       end do
     case ('upper')
       call self%sub(n)%p%apply(r(n0:n1), z(n0:n1))
@@ -118,6 +139,12 @@ contains
         if (allocated(self%sub(i)%p)) call self%sub(i)%p%free()
       end do
       deallocate(self%sub)
+    end if
+    if (allocated(self%lower)) then
+      do i = 1, size(self%lower)
+        if (allocated(self%lower(i)%p)) call self%lower(i)%p%free()
+      end do
+      deallocate(self%lower)
     end if
     if (allocated(self%t)) deallocate(self%t, self%y)
     self%a => null()
