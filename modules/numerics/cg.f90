@@ -78,13 +78,13 @@ contains
     if (.not. ieee_is_finite(bnorm)) then
       info%msg = 'cg: NaN or Inf in the right-hand side'
       info%rel_res = huge(1.0_rp)
-      call finish(info, its, t0)
+      call info%finish(its, t0)
       return
     end if
     if (bnorm == 0.0_rp) then
       x = 0.0_rp
       info%converged = .true.
-      call finish(info, its, t0)
+      call info%finish(its, t0)
       return
     end if
     tol = max(self%rtol * bnorm, self%atol)
@@ -97,7 +97,7 @@ contains
     if (.not. ieee_is_finite(rnorm)) then
       info%msg = 'cg: NaN or Inf in the initial residual (matrix or initial guess broken)'
       info%rel_res = huge(1.0_rp)
-      call finish(info, its, t0)
+      call info%finish(its, t0)
       return
     end if
     info%rel_res = rnorm / bnorm
@@ -180,7 +180,7 @@ contains
     else
       call final_residual(self, a, b, x, q, bnorm, info)
     end if
-    call finish(info, its, t0)
+    call info%finish(its, t0)
   end subroutine cg_solve
 
   !> rel_res from the true residual at the end (huge() when not finite); the
@@ -218,17 +218,4 @@ contains
       write(info%msg, '(a,a,a,i0,a)') 'cg: ', why, ' at iteration ', its, ', relative residual'
     end if
   end subroutine stop_msg
-
-  !> Record the iteration count and the time, and trim the history to 0:its.
-  subroutine finish(info, its, t0)
-    type(solve_info_t), intent(inout) :: info
-    integer, intent(in) :: its
-    real(rp), intent(in) :: t0
-    real(rp), allocatable :: hist(:)
-    info%iterations = its
-    allocate(hist(0:its))
-    hist = info%history(0:its)
-    call move_alloc(hist, info%history)
-    info%solve_time = wall_time() - t0
-  end subroutine finish
 end module cg

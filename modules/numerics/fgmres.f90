@@ -99,14 +99,14 @@ contains
     if (.not. ieee_is_finite(bnorm)) then
       info%msg = 'fgmres: NaN or Inf in the right-hand side'
       info%rel_res = huge(1.0_rp)
-      call finish(info, its, t0)
+      call info%finish(its, t0)
       return
     end if
     if (bnorm == 0.0_rp) then
       ! the answer is known: do not let rtol * 0 ask for the impossible
       x = 0.0_rp
       info%converged = .true.
-      call finish(info, its, t0)
+      call info%finish(its, t0)
       return
     end if
     tol = max(self%rtol * bnorm, self%atol)
@@ -118,14 +118,14 @@ contains
     if (.not. ieee_is_finite(rnorm)) then
       info%msg = 'fgmres: NaN or Inf in the initial residual (matrix or initial guess broken)'
       info%rel_res = huge(1.0_rp)
-      call finish(info, its, t0)
+      call info%finish(its, t0)
       return
     end if
     info%rel_res = rnorm / bnorm
     info%history(0) = info%rel_res
     if (rnorm <= tol) then
       info%converged = .true.
-      call finish(info, its, t0)
+      call info%finish(its, t0)
       return
     end if
 
@@ -174,7 +174,7 @@ contains
       end if
       rnorm = rnorm_new
     end do
-    call finish(info, its, t0)
+    call info%finish(its, t0)
   end subroutine fgmres_solve
 
   !> One Arnoldi cycle of at most mr steps from v(:,1) = r / rnorm. Returns k,
@@ -339,17 +339,4 @@ contains
     write(info%msg, '(a,a,a,i0,a,es10.3)') 'fgmres: ', why, ' iteration ', its, &
       ' with relative residual ', rel_res
   end subroutine stop_msg
-
-  !> Record the iteration count and the time, and trim the history to 0:its.
-  subroutine finish(info, its, t0)
-    type(solve_info_t), intent(inout) :: info
-    integer, intent(in) :: its
-    real(rp), intent(in) :: t0
-    real(rp), allocatable :: hist(:)
-    info%iterations = its
-    allocate(hist(0:its))
-    hist = info%history(0:its)
-    call move_alloc(hist, info%history)
-    info%solve_time = wall_time() - t0
-  end subroutine finish
 end module fgmres

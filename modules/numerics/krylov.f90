@@ -1,7 +1,7 @@
 !> Abstract Krylov solver and the report of one solve.
 module krylov
   use kinds, only: rp, ip, name_len, msg_len
-  use parallel_comm, only: parallel_comm_t
+  use parallel_comm, only: parallel_comm_t, wall_time
   use error_status, only: error_status_t
   use linear_operator, only: linear_operator_t
   use precon, only: precon_t
@@ -19,6 +19,8 @@ module krylov
     real(rp) :: solve_time = 0.0_rp
     real(rp), allocatable :: history(:)    !< relative residual per iteration (0..iterations)
     character(len=msg_len) :: msg = ''     !< why it stopped when it did not converge
+  contains
+    procedure :: finish
   end type solve_info_t
 
   type, abstract :: krylov_t
@@ -51,6 +53,20 @@ module krylov
     end function name_iface
   end interface
 contains
+
+  !> Record the iteration count and the time since t0, and trim the history
+  !> to 0:its (common end of every Krylov solve).
+  subroutine finish(info, its, t0)
+    class(solve_info_t), intent(inout) :: info
+    integer, intent(in) :: its
+    real(rp), intent(in) :: t0
+    real(rp), allocatable :: hist(:)
+    info%iterations = its
+    allocate(hist(0:its))
+    hist = info%history(0:its)
+    call move_alloc(hist, info%history)
+    info%solve_time = wall_time() - t0
+  end subroutine finish
 
   !> Set the communicator and the parameters common to every Krylov method.
   !> rtol, atol: tolerances of the residual norm (relative to ||b||,
