@@ -28,6 +28,8 @@ module csr_matrix
     integer(gp), allocatable :: stash_row(:), stash_col(:)
     real(rp), allocatable :: stash_val(:)
     real(rp), allocatable :: x_ext(:)           !< work: x with ghost columns
+    !> a column map built for this matrix (global_csr%to_csr), freed with it
+    type(index_map_t), pointer :: owned_col_map => null()
   contains
     procedure :: init
     procedure :: zero
@@ -289,6 +291,10 @@ contains
     if (allocated(self%x_ext)) deallocate(self%x_ext)
     self%row_map => null()
     self%col_map => null()
+    if (associated(self%owned_col_map)) then
+      call self%owned_col_map%free()
+      deallocate(self%owned_col_map)
+    end if
     self%n_rows = 0
     self%n_stash = 0
   end subroutine free
