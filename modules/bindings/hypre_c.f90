@@ -49,6 +49,11 @@ module hypre_c
   public :: HYPRE_BoomerAMGSetRelaxType, HYPRE_BoomerAMGSetCycleRelaxType
   public :: HYPRE_BoomerAMGSetNumSweeps, HYPRE_BoomerAMGSetRelaxWt
   public :: HYPRE_BoomerAMGSetTruncFactor, HYPRE_BoomerAMGSetPMaxElmts
+  public :: HYPRE_FSAICreate, HYPRE_FSAIDestroy, HYPRE_FSAISetup, HYPRE_FSAISolve
+  public :: HYPRE_FSAISetAlgoType, HYPRE_FSAISetMaxSteps, HYPRE_FSAISetMaxStepSize
+  public :: HYPRE_FSAISetKapTolerance, HYPRE_FSAISetOmega, HYPRE_FSAISetMaxIterations
+  public :: HYPRE_FSAISetEigMaxIters, HYPRE_FSAISetTolerance, HYPRE_FSAISetPrintLevel
+  public :: HYPRE_FSAISetZeroGuess
 
   interface
 
@@ -547,6 +552,134 @@ module hypre_c
       integer(hypre_int), value :: p_max_elmts
       integer(hypre_int) :: ierr
     end function HYPRE_BoomerAMGSetPMaxElmts
+
+    ! ---- FSAI (HYPRE_parcsr_ls.h, "ParCSR FSAI Solver and Preconditioner") ---
+    ! Adaptive factorized sparse approximate inverse: a sparse lower triangular
+    ! G with G^T G ~ A^-1. The solve is Richardson's iteration
+    ! x <- x + omega G^T G (b - A x); from a zero guess its first step is
+    ! x = omega G^T G b.
+
+    !> HYPRE_Int HYPRE_FSAICreate(HYPRE_Solver *solver)
+    function HYPRE_FSAICreate(solver) bind(C, name='HYPRE_FSAICreate') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), intent(out) :: solver
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAICreate
+
+    !> HYPRE_Int HYPRE_FSAIDestroy(HYPRE_Solver solver)
+    function HYPRE_FSAIDestroy(solver) bind(C, name='HYPRE_FSAIDestroy') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAIDestroy
+
+    !> HYPRE_Int HYPRE_FSAISetup(HYPRE_Solver solver, HYPRE_ParCSRMatrix A,
+    !>   HYPRE_ParVector b, HYPRE_ParVector x); b and x are ignored.
+    function HYPRE_FSAISetup(solver, a, b, x) bind(C, name='HYPRE_FSAISetup') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver, a, b, x
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISetup
+
+    !> HYPRE_Int HYPRE_FSAISolve(HYPRE_Solver solver, HYPRE_ParCSRMatrix A,
+    !>   HYPRE_ParVector b, HYPRE_ParVector x)
+    function HYPRE_FSAISolve(solver, a, b, x) bind(C, name='HYPRE_FSAISolve') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver, a, b, x
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISolve
+
+    !> HYPRE_Int HYPRE_FSAISetAlgoType(HYPRE_Solver solver, HYPRE_Int algo_type)
+    !> 1: native, 2: OpenMP with dynamic scheduling.
+    function HYPRE_FSAISetAlgoType(solver, algo_type) &
+        bind(C, name='HYPRE_FSAISetAlgoType') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: algo_type
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISetAlgoType
+
+    !> HYPRE_Int HYPRE_FSAISetMaxSteps(HYPRE_Solver solver, HYPRE_Int max_steps)
+    function HYPRE_FSAISetMaxSteps(solver, max_steps) &
+        bind(C, name='HYPRE_FSAISetMaxSteps') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: max_steps
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISetMaxSteps
+
+    !> HYPRE_Int HYPRE_FSAISetMaxStepSize(HYPRE_Solver solver, HYPRE_Int max_step_size)
+    function HYPRE_FSAISetMaxStepSize(solver, max_step_size) &
+        bind(C, name='HYPRE_FSAISetMaxStepSize') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: max_step_size
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISetMaxStepSize
+
+    !> HYPRE_Int HYPRE_FSAISetKapTolerance(HYPRE_Solver solver, HYPRE_Real kap_tolerance)
+    function HYPRE_FSAISetKapTolerance(solver, kap_tolerance) &
+        bind(C, name='HYPRE_FSAISetKapTolerance') result(ierr)
+      import :: c_ptr, hypre_int, hypre_real
+      type(c_ptr), value :: solver
+      real(hypre_real), value :: kap_tolerance
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISetKapTolerance
+
+    !> HYPRE_Int HYPRE_FSAISetOmega(HYPRE_Solver solver, HYPRE_Real omega)
+    function HYPRE_FSAISetOmega(solver, omega) bind(C, name='HYPRE_FSAISetOmega') result(ierr)
+      import :: c_ptr, hypre_int, hypre_real
+      type(c_ptr), value :: solver
+      real(hypre_real), value :: omega
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISetOmega
+
+    !> HYPRE_Int HYPRE_FSAISetMaxIterations(HYPRE_Solver solver, HYPRE_Int max_iterations)
+    function HYPRE_FSAISetMaxIterations(solver, max_iterations) &
+        bind(C, name='HYPRE_FSAISetMaxIterations') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: max_iterations
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISetMaxIterations
+
+    !> HYPRE_Int HYPRE_FSAISetEigMaxIters(HYPRE_Solver solver, HYPRE_Int eig_max_iters)
+    !> Power-method iterations in the set-up that replace omega by
+    !> 1 / lambda_max(G^T G A); 0 keeps the omega that was set.
+    function HYPRE_FSAISetEigMaxIters(solver, eig_max_iters) &
+        bind(C, name='HYPRE_FSAISetEigMaxIters') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: eig_max_iters
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISetEigMaxIters
+
+    !> HYPRE_Int HYPRE_FSAISetTolerance(HYPRE_Solver solver, HYPRE_Real tolerance)
+    function HYPRE_FSAISetTolerance(solver, tolerance) &
+        bind(C, name='HYPRE_FSAISetTolerance') result(ierr)
+      import :: c_ptr, hypre_int, hypre_real
+      type(c_ptr), value :: solver
+      real(hypre_real), value :: tolerance
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISetTolerance
+
+    !> HYPRE_Int HYPRE_FSAISetPrintLevel(HYPRE_Solver solver, HYPRE_Int print_level)
+    function HYPRE_FSAISetPrintLevel(solver, print_level) &
+        bind(C, name='HYPRE_FSAISetPrintLevel') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: print_level
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISetPrintLevel
+
+    !> HYPRE_Int HYPRE_FSAISetZeroGuess(HYPRE_Solver solver, HYPRE_Int zero_guess)
+    function HYPRE_FSAISetZeroGuess(solver, zero_guess) &
+        bind(C, name='HYPRE_FSAISetZeroGuess') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: zero_guess
+      integer(hypre_int) :: ierr
+    end function HYPRE_FSAISetZeroGuess
 
   end interface
 
