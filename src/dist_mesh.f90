@@ -30,6 +30,9 @@ module dist_mesh
     integer(ip), allocatable :: cell_nodes(:,:)     !< (8, n_cells) local node ids
     integer(ip), allocatable :: cell_region(:)      !< (n_cells)
     integer(ip), allocatable :: cell_owner(:)       !< (n_cells) owning rank
+    !> ids of the local nodes, cells and faces in the global mesh before the
+    !> partition renumbered them: partition-independent ordering keys
+    integer(gp), allocatable :: node_orig(:), cell_orig(:), face_orig(:)
     integer(ip), allocatable :: cell_faces(:,:)     !< (6, n_cells) local face ids
     integer(ip), allocatable :: cell_face_sign(:,:) !< (6, n_cells)
     integer(ip), allocatable :: face_nodes(:,:)     !< (4, n_faces) local node ids
@@ -183,6 +186,10 @@ contains
     end do
     self%cell_region = gmesh%cell_region(lcells)
     self%cell_owner = part(lcells)
+    allocate(self%node_orig(self%n_nodes), self%cell_orig(self%n_cells), self%face_orig(self%n_faces))
+    self%node_orig = int(lnodes, gp)
+    self%cell_orig = int(lcells, gp)
+    self%face_orig = int(lfaces, gp)
 
     if (.not. comm%is_root()) then
       call gmesh%free()
@@ -389,6 +396,7 @@ contains
     if (allocated(self%sface_set)) deallocate(self%sface_set)
     if (allocated(self%set_node_ptr)) deallocate(self%set_node_ptr)
     if (allocated(self%set_nodes)) deallocate(self%set_nodes)
+    if (allocated(self%node_orig)) deallocate(self%node_orig, self%cell_orig, self%face_orig)
     self%n_nodes = 0
     self%n_cells = 0
     self%n_faces = 0
