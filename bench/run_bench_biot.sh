@@ -6,7 +6,11 @@
 # block preconditioner (LDU, fixed stress) to 1e-8, with the set-up split into
 # its dt-independent (T_p1) and dt-dependent (T_p2) parts, one CG + BoomerAMG
 # elasticity solve on the same mesh as the reference, and MUMPS on the same
-# system. Usage: bench/run_bench_biot.sh [sizes] [ranks] [gammas] [mumps: yes|no]
+# system. Preconditioner variants (issue 4, the seed's table side by side):
+#   implicit      : implicit factors, ldu_cheap, fixed stress + scaled Laplacian, AMG
+#   explicit_amg  : block aFSAI factors F, explicit Schur P + F1'K F1 + g F2'A F2, AMG on K and S
+#   explicit_afsai: the same with our aFSAI on K, A and S (the seed's all-aFSAI method)
+# Usage: bench/run_bench_biot.sh [sizes] [ranks] [gammas] [mumps: yes|no] [variants]
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -14,22 +18,25 @@ sizes=${1:-"40 80"}
 ranks=${2:-"1 2"}
 gammas=${3:-"0.15 1 100"}
 with_mumps=${4:-yes}
+variants=${5:-"implicit explicit_amg explicit_afsai"}
 out=build/bench
 mkdir -p "$out"
 table=$out/mandel.md
-echo "| mesh | unknowns | ranks | solver | gamma | iterations | T_p1 [s] | T_p2 [s] | T_s [s] | elastic AMG: its / setup / solve [s] | T_s / elastic solve | max RSS of a rank [MB] |" > "$table"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|" >> "$table"
+echo "| mesh | unknowns | ranks | solver | gamma | mu | iterations | T_p1 [s] | T_p2 [s] | T_s [s] | elastic AMG: its / setup / solve [s] | T_s / elastic solve | max RSS of a rank [MB] |" > "$table"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|" >> "$table"
 for n in $sizes; do
   nz=$((n / 10))
   for np in $ranks; do
-    for s in fgmres mumps; do
+    for s in $variants mumps; do
       [ "$s" = mumps ] && [ "$with_mumps" != yes ] && continue
       [ "$s" = mumps ] && [ "$np" != 1 ] && continue
       for g in $gammas; do
         [ "$s" = mumps ] && [ "$g" != 1 ] && continue
         name=mandel_${n}_${s}_np${np}_g${g}
         case $s in
-          fgmres) solver="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true." ;;
+          implicit) solver="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true." ;;
+          explicit_amg) solver="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true., decoupling = 'explicit'" ;;
+          explicit_afsai) solver="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true., decoupling = 'explicit', k_precon = 'afsai', flux_precon = 'afsai', schur_precon = 'afsai', restart = 300, max_iter = 5000" ;;
           mumps)  solver="method = 'mumps'" ;;
         esac
         sed -e "s#nx = 20, ny = 20, nz = 1#nx = $n, ny = $n, nz = $nz#" \
@@ -50,9 +57,10 @@ for n in $sizes; do
         refs=$(grep -m1 'elastic reference' "$log" | sed -E 's/.*solve +([0-9.]+) s.*/\1/')
         ratio="-"
         [ -n "$refs" ] && ratio=$(echo "scale=2; $ts / $refs" | bc)
+        mu=$(grep -m1 'density mu' "$log" | sed -E 's/.*density mu ([0-9.eE+-]+).*/\1/')
         rss=$(grep -m1 'Maximum resident set size' "$log" | awk '{print int($NF/1024)}')
-        printf '| %sx%sx%s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$n" "$n" "$nz" "$tot" "$np" "$s" \
-          "$g" "$its" "$tp1" "$tp2" "$ts" "${ref:--}" "$ratio" "$rss" | tee -a "$table"
+        printf '| %sx%sx%s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$n" "$n" "$nz" "$tot" "$np" "$s" \
+          "$g" "${mu:--}" "$its" "$tp1" "$tp2" "$ts" "${ref:--}" "$ratio" "$rss" | tee -a "$table"
       done
     done
   done

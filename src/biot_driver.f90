@@ -35,7 +35,9 @@ module biot_driver
   use boomeramg_precon, only: boomeramg_precon_t
   use jacobi_precon, only: jacobi_precon_t
   use mumps_solver, only: mumps_solver_t
-  use schur_block_precon, only: schur_block_precon_t
+  use block_precon, only: block_precon_t
+  use biot_precon, only: biot_precon_t
+  use fsai_config, only: fsai_config_t
   use scaled_system, only: scaled_operator_t, scaled_precon_t
   use dist_vector, only: pnorm2, pmax_abs
   use xdmf_writer, only: xdmf_writer_t
@@ -62,8 +64,8 @@ contains
     type(error_status_t) :: status
     type(dist_mesh_t), target :: mesh
     type(poromechanics_t), target :: phys
-    type(csr_matrix_t) :: s
-    type(schur_block_precon_t), target :: bp
+    type(fsai_config_t) :: fcfg
+    type(biot_precon_t), target :: bpc
     type(scaled_operator_t) :: sop
     type(scaled_precon_t) :: spc
     real(rp), allocatable :: dscale(:), y(:), b_scaled(:)
@@ -89,6 +91,7 @@ contains
       call scfg%read(d, log, status)
     end if
     if (status%ok()) call read_amg_config(d, log, amg, status)
+    if (status%ok()) call fcfg%read(d, log, status)
     if (status%ok()) call bcfg%read(d, log, status)
     if (status%ok()) call load_histories(comm, bcs, status)
     if (status%ok()) call read_sources(d, log, srcs, status)
@@ -160,65 +163,39 @@ contains
         t_p1 = wall_time() - t0
       else
         if (.not. setup_done) then
-          t0 = wall_time()
-          call bp%init(phys%sys, scfg%block_mode)
-          allocate(boomeramg_precon_t :: bp%sub(iu)%p)
-          select type (m => bp%sub(iu)%p)
-          type is (boomeramg_precon_t)
-            call m%setup(phys%sys%a(iu, iu), amg, status)
-          end select
-          if (scfg%flux_precon == 'boomeramg') then
-            allocate(boomeramg_precon_t :: bp%sub(iq)%p)
-            select type (m => bp%sub(iq)%p)
-            type is (boomeramg_precon_t)
-              call m%setup(phys%sys%a(iq, iq), amg_s, status)
-            end select
-          else
-            allocate(jacobi_precon_t :: bp%sub(iq)%p)
-            select type (m => bp%sub(iq)%p)
-            type is (jacobi_precon_t)
-              call m%setup(phys%sys%a(iq, iq), status)
-            end select
-          end if
-          allocate(boomeramg_precon_t :: bp%sub(ipr)%p)
-          if (scfg%block_mode == 'ldu_cheap') then
-            allocate(jacobi_precon_t :: bp%lower(iu)%p, bp%lower(iq)%p)
-            select type (m => bp%lower(iu)%p)
-            type is (jacobi_precon_t)
-              call m%setup(phys%sys%a(iu, iu), status)
-            end select
-            select type (m => bp%lower(iq)%p)
-            type is (jacobi_precon_t)
-              call m%setup(phys%sys%a(iq, iq), status)
-            end select
-          end if
+          call bpc%setup_fixed(phys, mesh, scfg, fcfg, amg, amg_s, status)
+          call agree(comm, status)
+          if (.not. status%ok()) call log%fatal(comm, 'preconditioner set-up: '//trim(status%msg))
           setup_done = .true.
-          t_p1 = wall_time() - t0
+          t_p1 = bpc%t_p1
+          if (bpc%explicit) call log%info('explicit decoupling factors: ||K F1 - Q||/||Q|| '// &
+            trim(rtoa(bpc%resid_f(1)))//', ||A F2 - B||/||B|| '//trim(rtoa(bpc%resid_f(2))))
         end if
         if (dt /= dt_used) then
-          t0 = wall_time()
-          if (scfg%schur == 'algebraic') then
-            call phys%algebraic_schur(mesh, dt, s)
-          else
-            call phys%fixed_stress_schur(mesh, dt, s)
+          call bpc%setup_dt(phys, mesh, dt, status)
+          call agree(comm, status)
+          if (.not. status%ok()) call log%fatal(comm, 'preconditioner set-up: '//trim(status%msg))
+          t_p2 = bpc%t_p2
+          if (bpc%nnz_fixed + bpc%nnz_dt > 0) then
+            line = 'block preconditioner '//trim(bpc%bp%name())//': density mu '//trim(rtoa(bpc%density()))// &
+              ' (stored non-zeros '//itoa(int(bpc%nnz_fixed + bpc%nnz_dt))//' / '//itoa(int(bpc%nnz_matrix))//')'
+            if (dt_used < 0.0_rp) then
+              call log%info(line)
+            else
+              call log%detail(line)
+            end if
           end if
-          select type (m => bp%sub(ipr)%p)
-          type is (boomeramg_precon_t)
-            call m%free()
-            call m%setup(s, amg_s, status)
-          end select
           dt_used = dt
-          call scaling(phys, s, dscale)
+          call scaling(phys, bpc%s, dscale)
           call sop%init(phys%sys, dscale)
-          call spc%init(bp, dscale)
-          t_p2 = wall_time() - t0
+          call spc%init(bpc%bp, dscale)
         end if
       end if
       call agree(comm, status)
       if (.not. status%ok()) call log%fatal(comm, 'step '//itoa(step)//': '//trim(status%msg))
 
       if (scfg%elastic_reference .and. t_p1 > 0.0_rp .and. scfg%method /= 'mumps') &
-        call elastic_reference(comm, log, phys, bp, scfg)
+        call elastic_reference(comm, log, phys, bpc%bp, scfg, amg)
 
       ! solve from the previous state
       phys%x = phys%x_old
@@ -272,7 +249,7 @@ contains
     call log%info('residual histories: '//trim(run%out_dir)//'/'//trim(run%prefix)//'_residuals.csv')
     call timers%stop('total')
     call timers%report(comm, log)
-    call bp%free()
+    call bpc%free()
     call direct%free()
     call out%free()
     call phys%free()
@@ -280,17 +257,21 @@ contains
   end subroutine run_biot
 
   !> The benchmarks' reference: one CG solve of K u = f (the mechanics block
-  !> and right-hand side of this step) with the BoomerAMG of the block
-  !> preconditioner, to the same tolerance. Logged, not used.
-  subroutine elastic_reference(comm, log, phys, bp, scfg)
-    type(parallel_comm_t), intent(in) :: comm
+  !> and right-hand side of this step) with BoomerAMG (that of the block
+  !> preconditioner when it uses one), to the same tolerance. Logged, not used.
+  subroutine elastic_reference(comm, log, phys, bp, scfg, amg)
+    type(parallel_comm_t), intent(inout) :: comm
     type(logger_t), intent(inout) :: log
     type(poromechanics_t), intent(inout) :: phys
-    type(schur_block_precon_t), intent(inout) :: bp
+    type(block_precon_t), intent(inout) :: bp
     type(solver_config_t), intent(in) :: scfg
+    type(amg_params_t), intent(in) :: amg
     type(cg_t) :: solver
     type(solve_info_t) :: info
+    type(boomeramg_precon_t) :: own
+    type(error_status_t) :: status
     real(rp), allocatable :: x(:), b(:)
+    real(rp) :: t_setup
     integer(ip) :: u0, u1
     character(len=msg_len) :: line
     call phys%sys%block_range(iu, u0, u1)
@@ -299,9 +280,19 @@ contains
     allocate(x(size(b)))
     x = 0.0_rp
     call solver%init(comm, scfg%rtol, 0.0_rp, scfg%max_iter)
-    call solver%solve(phys%sys%a(iu, iu), bp%sub(iu)%p, b, x, info)
+    select type (m => bp%s(iu)%p)
+    type is (boomeramg_precon_t)
+      call solver%solve(phys%sys%a(iu, iu), m, b, x, info)
+      t_setup = m%setup_time
+    class default
+      call own%setup(phys%sys%a(iu, iu), amg, status)
+      if (.not. status%ok()) call log%fatal(comm, 'elastic reference: '//trim(status%msg))
+      call solver%solve(phys%sys%a(iu, iu), own, b, x, info)
+      t_setup = own%setup_time
+      call own%free()
+    end select
     write(line, '(a,i0,a,es9.2,a,f8.3,a,f8.3,a)') 'elastic reference (CG + BoomerAMG on K): iterations ', &
-      info%iterations, ', rel. residual ', info%rel_res, ', AMG setup ', bp%sub(iu)%p%setup_time, ' s, solve ', &
+      info%iterations, ', rel. residual ', info%rel_res, ', AMG setup ', t_setup, ' s, solve ', &
       info%solve_time, ' s'
     call log%info(line)
   end subroutine elastic_reference

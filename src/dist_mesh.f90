@@ -50,6 +50,7 @@ module dist_mesh
     procedure :: set_id
     procedure :: region_id
     procedure :: cell_volume
+    procedure :: node_keys
     procedure :: free
   end type dist_mesh_t
 
@@ -402,4 +403,19 @@ contains
     self%n_faces = 0
     self%n_sfaces = 0
   end subroutine free
+
+  !> Partition-independent ordering keys of the dofs of the owned nodes with
+  !> ncomp interleaved components: ncomp (original node id - 1) + c.
+  subroutine node_keys(self, ncomp, keys)
+    class(dist_mesh_t), intent(in) :: self
+    integer, intent(in) :: ncomp
+    integer(gp), allocatable, intent(out) :: keys(:)
+    integer(ip) :: e, c
+    allocate(keys(ncomp * self%node_map%n_owned))
+    do e = 1, self%node_map%n_owned
+      do c = 1, ncomp
+        keys(ncomp*(e-1) + c) = ncomp * (self%node_orig(e) - 1) + c
+      end do
+    end do
+  end subroutine node_keys
 end module dist_mesh

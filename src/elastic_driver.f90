@@ -16,6 +16,7 @@ module elastic_driver
   use solver_config, only: solver_config_t
   use amg_config, only: read_amg_config
   use amg_params, only: amg_params_t
+  use fsai_config, only: fsai_config_t
   use mesh_builder, only: build_mesh
   use dist_mesh, only: dist_mesh_t
   use elasticity, only: elasticity_t
@@ -40,6 +41,8 @@ contains
     type(material_config_t), allocatable :: mats(:)
     type(boundary_config_t), allocatable :: bcs(:)
     type(solver_config_t) :: scfg
+    type(fsai_config_t) :: fcfg
+    integer(gp), allocatable :: keys(:)
     type(amg_params_t) :: amg
     type(error_status_t) :: status
     type(dist_mesh_t) :: mesh
@@ -61,6 +64,7 @@ contains
     if (status%ok()) call read_boundaries(d, log, bcs, status)
     if (status%ok()) call scfg%read(d, log, status)
     if (status%ok()) call read_amg_config(d, log, amg, status)
+    if (status%ok()) call fcfg%read(d, log, status)
     if (status%ok()) call load_histories(comm, bcs, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
 
@@ -86,7 +90,7 @@ contains
     call log%info('displacement dofs: '//itoa(int(phys%u%map%n_global))//', matrix non-zeros: '// &
                   itoa(int(phys%k%global_nnz())))
 
-    call solver%init(comm, scfg, amg, status)
+    call solver%init(comm, scfg, amg, status, fcfg%precon)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
     call log%info('linear solver: '//solver%describe())
     if (run%fields) then
@@ -110,10 +114,11 @@ contains
       t_setup = 0.0_rp
       if (step == 1) then
         call timers%start('preconditioner setup')
-        call solver%setup(phys%k, status, symmetric=.true.)
+        call mesh%node_keys(3, keys)
+        call solver%setup(phys%k, status, symmetric=.true., keys=keys)
         call timers%stop('preconditioner setup', t_setup)
         call agree(comm, status)
-        if (status%ok()) call solver%setup_report(log, status)
+        if (status%ok()) call solver%setup_report(phys%k, log, status)
         if (.not. status%ok()) call log%fatal(comm, 'step '//itoa(step)//': '//trim(status%msg))
       end if
       call timers%start('solve')

@@ -30,7 +30,8 @@ program geoblock
 
   call d%load(comm, trim(path), status)
   if (status%ok()) call d%check_groups( &
-    [character(len=16) :: 'run', 'mesh', 'material', 'boundary', 'time', 'solver', 'amg', 'output', 'biot', 'source'], &
+    [character(len=16) :: 'run', 'mesh', 'material', 'boundary', 'time', 'solver', 'amg', 'output', 'biot', 'source', &
+     'afsai', 'block_fsai'], &
     [character(len=16) :: 'material', 'boundary', 'source'], status)
   if (status%ok()) call run%read(d, log, status)
   if (.not. status%ok()) call log%fatal(comm, status%msg)

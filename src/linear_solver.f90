@@ -17,6 +17,10 @@ module linear_solver
   use logger, only: logger_t
   use strings, only: itoa
   use mumps_solver, only: mumps_solver_t
+  use afsai_precon, only: afsai_precon_t
+  use hypre_fsai_precon, only: hypre_fsai_precon_t
+  use fsai_params, only: fsai_params_t
+  use kinds, only: gp
   use solver_config, only: solver_config_t
   implicit none
   private
@@ -26,6 +30,7 @@ module linear_solver
   type :: linear_solver_t
     type(solver_config_t) :: cfg
     type(amg_params_t) :: amg
+    type(fsai_params_t) :: fsai
     class(krylov_t), allocatable :: krylov
     class(precon_t), allocatable :: precon
     logical :: direct = .false.
@@ -41,15 +46,17 @@ module linear_solver
 contains
 
   !> Choose the methods; nothing is built yet.
-  subroutine init(self, comm, cfg, amg, status)
+  subroutine init(self, comm, cfg, amg, status, fsai)
     class(linear_solver_t), intent(inout) :: self
     type(parallel_comm_t), intent(in) :: comm
     type(solver_config_t), intent(in) :: cfg
     type(amg_params_t), intent(in) :: amg
     type(error_status_t), intent(inout) :: status
+    type(fsai_params_t), intent(in), optional :: fsai   !< settings of precon = 'afsai' or 'hypre_fsai'
     call self%free()
     self%cfg = cfg
     self%amg = amg
+    if (present(fsai)) self%fsai = fsai
     self%direct = cfg%method == 'mumps'
     select case (cfg%method)
     case ('fgmres')
@@ -76,25 +83,34 @@ contains
       allocate(boomeramg_precon_t :: self%precon)
     case ('jacobi')
       allocate(jacobi_precon_t :: self%precon)
+    case ('afsai')
+      allocate(afsai_precon_t :: self%precon)
+    case ('hypre_fsai')
+      allocate(hypre_fsai_precon_t :: self%precon)
     case ('none')
       allocate(identity_precon_t :: self%precon)
     case default
       call status%set("linear solver: unknown preconditioner '"//trim(cfg%precon)// &
-                      "' (valid: boomeramg, jacobi, none)")
+                      "' (valid: boomeramg, jacobi, afsai, hypre_fsai, none)")
     end select
   end subroutine init
 
   !> Build the preconditioner (or factorize) for matrix a. Collective.
-  subroutine setup(self, a, status, symmetric)
+  subroutine setup(self, a, status, symmetric, keys)
     class(linear_solver_t), intent(inout) :: self
-    type(csr_matrix_t), intent(inout) :: a
+    type(csr_matrix_t), intent(inout), target :: a
     type(error_status_t), intent(inout) :: status
     logical, intent(in), optional :: symmetric
+    integer(gp), intent(in), optional :: keys(:)   !< ordering keys of the owned rows (aFSAI)
     real(rp) :: t0
     t0 = wall_time()
     select type (m => self%precon)
     type is (boomeramg_precon_t)
       call m%setup(a, self%amg, status)
+    type is (afsai_precon_t)
+      call m%setup(a, self%fsai, status, keys)
+    type is (hypre_fsai_precon_t)
+      call m%setup(a, self%fsai%max_steps, self%fsai%step_size, self%fsai%tol, status)
     type is (jacobi_precon_t)
       call m%setup(a, status)
     type is (mumps_solver_t)
@@ -147,12 +163,19 @@ contains
 
   !> Log what the last set-up built: the AMG hierarchy, or the MUMPS factors
   !> and their peak memory. Collective.
-  subroutine setup_report(self, log, status)
+  subroutine setup_report(self, a, log, status)
     class(linear_solver_t), intent(inout) :: self
+    type(csr_matrix_t), intent(in) :: a
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     character(len=msg_len) :: line
+    type(parallel_comm_t) :: comm
     integer :: i
+    integer(gp) :: n
+    integer(ip) :: n_own
+    comm = a%row_map%comm
+    n = a%row_map%n_global
+    n_own = a%n_rows
     select type (m => self%precon)
     type is (boomeramg_precon_t)
       call m%measure_hierarchy(status)
@@ -168,8 +191,32 @@ contains
         m%peak_mem_max_mb, ' MB (max over ranks), ', m%peak_mem_total_mb, ' MB (total), analysis + factorization ', &
         m%setup_time, ' s'
       call log%info(line)
+    type is (afsai_precon_t)
+      write(line, '(a,i0,a,f7.2,a,es10.3,a)') '  aFSAI: ', m%nnz_factor(), ' non-zeros in G (', &
+        real(m%nnz_factor(), rp) / real(n, rp), ' per row), one application ', apply_time(m) * 1.0e3_rp, ' ms'
+      call log%info(line)
+    type is (hypre_fsai_precon_t)
+      write(line, '(a,i0,a,es10.3,a)') '  hypre FSAI: at most ', m%nnz_g_max, &
+        ' non-zeros in G (hypre does not report the count), one application ', apply_time(m) * 1.0e3_rp, ' ms'
+      call log%info(line)
     class default
     end select
+  contains
+    !> Mean wall time of one application (20 applications to a fixed vector).
+    real(rp) function apply_time(p)
+      class(precon_t), intent(inout) :: p
+      real(rp), allocatable :: r(:), z(:)
+      real(rp) :: t0
+      integer :: k
+      allocate(r(n_own), z(n_own))
+      r = 1.0_rp
+      call comm%barrier()
+      t0 = wall_time()
+      do k = 1, 20
+        call p%apply(r, z)
+      end do
+      apply_time = comm%max(wall_time() - t0) / 20.0_rp
+    end function apply_time
   end subroutine setup_report
 
   subroutine free(self)

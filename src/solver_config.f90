@@ -2,18 +2,29 @@
 !>
 !>   method    'fgmres' (flexible GMRES, right preconditioned), 'cg' (for SPD
 !>             systems with an SPD preconditioner) or 'mumps' (direct)     ['fgmres']
-!>   precon    'boomeramg' (settings in &amg), 'jacobi' or 'none'; for
+!>   precon    'boomeramg' (settings in &amg), 'jacobi', 'afsai' (our adaptive
+!>             FSAI, settings in &afsai), 'hypre_fsai' (hypre's FSAI with the
+!>             max_steps, step_size and tol of &afsai) or 'none'; for
 !>             physics = 'biot': 'block' (the block preconditioner)      ['boomeramg', biot: 'block']
-!>   block_mode  biot: 'ldu', 'ldu_cheap' (Jacobi in the lower factor, one
-!>             AMG cycle of K per iteration), 'lower', 'upper' or 'diagonal'
-!>             application of the block factorization                   ['ldu_cheap']
+!>   decoupling biot: approximation of the decoupling factors F and G of the
+!>             block framework: 'implicit' (products with the coupling blocks
+!>             and the inner preconditioners) or 'explicit' (block aFSAI
+!>             F ~ K^-1 Q and A^-1 B, settings in &block_fsai)           ['implicit']
+!>   block_mode  biot: 'ldu' (F S^-1 G), 'ldu_cheap' (implicit only: Jacobi
+!>             in G, one AMG cycle of K per iteration), 'lower' (S^-1 G),
+!>             'upper' (F S^-1) or 'diagonal' (S^-1)      ['ldu_cheap'; explicit: 'ldu']
+!>   k_precon  biot: preconditioner of K: 'boomeramg' or 'afsai' (&afsai) ['boomeramg']
 !>   elastic_reference  biot: also solve K u = f once with CG and the same
 !>             BoomerAMG (the reference cost of the benchmarks)          [.false.]
-!>   schur     biot: approximation of Q^T K^-1 Q in the pressure Schur
-!>             complement: 'fixed_stress' (b^2 |c| / K_dr per cell) or
-!>             'algebraic' (Q^T diag(K)^-1 Q)                            ['fixed_stress']
+!>   schur     biot: the pressure Schur complement: 'fixed_stress' (b^2 |c| /
+!>             K_dr per cell for Q^T K^-1 Q) or 'algebraic' (Q^T diag(K)^-1 Q),
+!>             both with the scaled Laplacian for B^T A^-1 B; or 'explicit'
+!>             (P + F1^T K F1 + gamma F2^T A F2 from the explicit factors)
+!>                                           ['fixed_stress'; explicit: 'explicit']
+!>   schur_precon biot: preconditioner of the Schur complement: 'boomeramg'
+!>             or 'afsai'                                                ['boomeramg']
 !>   flux_precon biot: preconditioner of the Darcy mass block A:
-!>             'jacobi' (its diagonal) or 'boomeramg'                    ['jacobi']
+!>             'jacobi' (its diagonal), 'boomeramg' or 'afsai'           ['jacobi']
 !>   rtol      relative residual tolerance, 0 < rtol < 1                 [1e-8]
 !>   atol      absolute residual tolerance, >= 0                         [0]
 !>   max_iter  iteration cap, >= 1                                        [1000]
@@ -38,10 +49,13 @@ module solver_config
     integer :: max_iter = 1000
     integer :: restart = 100
     logical :: fail_on_no_convergence = .true.
+    character(len=name_len) :: decoupling = 'implicit'
     character(len=name_len) :: block_mode = 'ldu_cheap'
+    character(len=name_len) :: k_precon = 'boomeramg'
     character(len=name_len) :: flux_precon = 'jacobi'
     logical :: elastic_reference = .false.
     character(len=name_len) :: schur = 'fixed_stress'
+    character(len=name_len) :: schur_precon = 'boomeramg'
   contains
     procedure :: read => read_solver_config
   end type solver_config_t
@@ -54,20 +68,20 @@ contains
     type(deck_t), intent(in) :: d
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
-    character(len=name_len) :: method, precon, block_mode, flux_precon, schur
+    character(len=name_len) :: method, precon, block_mode, flux_precon, schur, decoupling, k_precon, schur_precon
     real(rp) :: rtol, atol
     integer :: max_iter, restart, ios
     logical :: fail_on_no_convergence, elastic_reference
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(16)
+    character(len=echo_len) :: echo(24)
     namelist /solver/ method, precon, rtol, atol, max_iter, restart, fail_on_no_convergence, block_mode, flux_precon, &
-                     elastic_reference, schur
+                     elastic_reference, schur, decoupling, k_precon, schur_precon
 
     method = self%method; precon = self%precon; rtol = self%rtol; atol = self%atol
     max_iter = self%max_iter; restart = self%restart; fail_on_no_convergence = self%fail_on_no_convergence
-    block_mode = self%block_mode; flux_precon = self%flux_precon; elastic_reference = self%elastic_reference
-    schur = self%schur
+    block_mode = ''; flux_precon = self%flux_precon; elastic_reference = self%elastic_reference
+    schur = ''; decoupling = self%decoupling; k_precon = self%k_precon; schur_precon = self%schur_precon
     if (d%count('solver') > 0) then
       call d%block('solver', 1, b)
       read(b, nml=solver, iostat=ios, iomsg=msg)
@@ -78,17 +92,37 @@ contains
     end if
     if (method /= 'fgmres' .and. method /= 'cg' .and. method /= 'mumps') &
       call d%fail(status, 'solver', 1, 'method', "must be one of 'fgmres', 'cg', 'mumps' (got '"//trim(method)//"')")
-    if (precon /= 'boomeramg' .and. precon /= 'jacobi' .and. precon /= 'none' .and. precon /= 'block') &
-      call d%fail(status, 'solver', 1, 'precon', "must be one of 'boomeramg', 'jacobi', 'none', 'block' (got '"// &
-                  trim(precon)//"')")
+    if (precon /= 'boomeramg' .and. precon /= 'jacobi' .and. precon /= 'afsai' .and. precon /= 'hypre_fsai' .and. &
+        precon /= 'none' .and. precon /= 'block') &
+      call d%fail(status, 'solver', 1, 'precon', "must be one of 'boomeramg', 'jacobi', 'afsai', 'hypre_fsai', "// &
+                  "'none', 'block' (got '"//trim(precon)//"')")
+    if (decoupling /= 'implicit' .and. decoupling /= 'explicit') &
+      call d%fail(status, 'solver', 1, 'decoupling', "must be 'implicit' or 'explicit' (got '"//trim(decoupling)//"')")
+    if (block_mode == '') block_mode = merge('ldu_cheap', 'ldu      ', decoupling /= 'explicit')
+    if (schur == '') schur = merge('fixed_stress', 'explicit    ', decoupling /= 'explicit')
     if (block_mode /= 'ldu' .and. block_mode /= 'lower' .and. block_mode /= 'upper' .and. block_mode /= 'diagonal' &
-        .and. block_mode /= 'ldu_cheap') &
+        .and. block_mode /= 'ldu_cheap') then
       call d%fail(status, 'solver', 1, 'block_mode', "must be one of 'ldu', 'ldu_cheap', 'lower', 'upper', "// &
                   "'diagonal' (got '"//trim(block_mode)//"')")
-    if (schur /= 'fixed_stress' .and. schur /= 'algebraic') &
-      call d%fail(status, 'solver', 1, 'schur', "must be 'fixed_stress' or 'algebraic' (got '"//trim(schur)//"')")
-    if (flux_precon /= 'jacobi' .and. flux_precon /= 'boomeramg') &
-      call d%fail(status, 'solver', 1, 'flux_precon', "must be 'jacobi' or 'boomeramg' (got '"//trim(flux_precon)//"')")
+    else if (block_mode == 'ldu_cheap' .and. decoupling == 'explicit') then
+      call d%fail(status, 'solver', 1, 'block_mode', "'ldu_cheap' is a variant of the implicit factors: "// &
+                  "use decoupling = 'implicit' or another block_mode")
+    end if
+    if (schur /= 'fixed_stress' .and. schur /= 'algebraic' .and. schur /= 'explicit') then
+      call d%fail(status, 'solver', 1, 'schur', "must be 'fixed_stress', 'algebraic' or 'explicit' (got '"// &
+                  trim(schur)//"')")
+    else if (schur == 'explicit' .and. decoupling /= 'explicit') then
+      call d%fail(status, 'solver', 1, 'schur', "'explicit' is computed from the explicit factors: "// &
+                  "it needs decoupling = 'explicit'")
+    end if
+    if (flux_precon /= 'jacobi' .and. flux_precon /= 'boomeramg' .and. flux_precon /= 'afsai') &
+      call d%fail(status, 'solver', 1, 'flux_precon', "must be 'jacobi', 'boomeramg' or 'afsai' (got '"// &
+                  trim(flux_precon)//"')")
+    if (k_precon /= 'boomeramg' .and. k_precon /= 'afsai') &
+      call d%fail(status, 'solver', 1, 'k_precon', "must be 'boomeramg' or 'afsai' (got '"//trim(k_precon)//"')")
+    if (schur_precon /= 'boomeramg' .and. schur_precon /= 'afsai') &
+      call d%fail(status, 'solver', 1, 'schur_precon', "must be 'boomeramg' or 'afsai' (got '"// &
+                  trim(schur_precon)//"')")
     if (.not. (rtol > 0.0_rp .and. rtol < 1.0_rp)) &
       call d%fail(status, 'solver', 1, 'rtol', 'must lie in (0, 1) (got '//rtoa(rtol)//')')
     if (.not. (atol >= 0.0_rp)) call d%fail(status, 'solver', 1, 'atol', 'must be >= 0 (got '//rtoa(atol)//')')
@@ -106,6 +140,9 @@ contains
     self%flux_precon = flux_precon
     self%elastic_reference = elastic_reference
     self%schur = schur
+    self%decoupling = decoupling
+    self%k_precon = k_precon
+    self%schur_precon = schur_precon
     echo = ''
     write(echo, nml=solver, iostat=ios)
     call d%echo(log, echo)

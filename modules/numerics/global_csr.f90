@@ -488,7 +488,7 @@ contains
     type(global_csr_t), intent(out) :: c
     type(row_store_t) :: store
     integer(gp), allocatable :: cols(:)
-    integer(ip), allocatable :: pos(:), marker(:), loc(:)
+    integer(ip), allocatable :: pos(:), marker(:), loc(:), bcid(:), scid(:)
     real(rp), allocatable :: acc(:)
     integer(ip), allocatable :: list(:)
     integer(ip) :: i, k, q, r, nc, nl, cap, m, kk
@@ -510,6 +510,14 @@ contains
       nc = nc + 1
       cols(nc) = cols(k)
     end do
+    ! compact column of every entry of b and of the fetched rows, found once
+    allocate(bcid(b%nnz()), scid(size(store%gcol)))
+    do k = 1, b%nnz()
+      bcid(k) = search_gid(cols(1:nc), b%gcol(k))
+    end do
+    do k = 1, size(store%gcol, kind=ip)
+      scid(k) = search_gid(cols(1:nc), store%gcol(k))
+    end do
     allocate(marker(nc), acc(nc), list(nc))
     marker = 0
     c%comm = a%comm
@@ -527,12 +535,12 @@ contains
         if (owned(b, a%gcol(k))) then
           r = int(a%gcol(k) - first_b + 1, ip)
           do q = b%row_ptr(r), b%row_ptr(r+1) - 1
-            call accumulate(b%gcol(q), a%val(k) * b%val(q))
+            call accumulate(bcid(q), a%val(k) * b%val(q))
           end do
         else
           r = store%find(a%gcol(k))
           do q = store%ptr(r), store%ptr(r+1) - 1
-            call accumulate(store%gcol(q), a%val(k) * store%val(q))
+            call accumulate(scid(q), a%val(k) * store%val(q))
           end do
         end if
       end do
@@ -551,11 +559,9 @@ contains
     c%gcol = c%gcol(1:m)
     c%val = c%val(1:m)
   contains
-    subroutine accumulate(g, x)
-      integer(gp), intent(in) :: g
+    subroutine accumulate(j, x)
+      integer(ip), intent(in) :: j
       real(rp), intent(in) :: x
-      integer(ip) :: j
-      j = search_gid(cols(1:nc), g)
       if (marker(j) == 0) then
         marker(j) = 1
         nl = nl + 1
