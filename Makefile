@@ -93,9 +93,13 @@ test: deps
 	$(MAKE) all tests
 	@bash tests/run_tests.sh
 
+# Benchmarks (long: about an hour with MUMPS): elasticity, Mandel with every
+# block preconditioner variant, our aFSAI against hypre's FSAI.
 bench: deps
 	$(MAKE) all
 	@bash bench/run_bench.sh
+	@bash bench/run_bench_biot.sh
+	@bash bench/run_bench_fsai.sh
 
 clean:
 	rm -rf build bin
