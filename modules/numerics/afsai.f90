@@ -44,7 +44,7 @@ module afsai
   public :: afsai_factor
   ! machinery shared with block_fsai
   public :: check_square, visible_id, visible_gid, visible_row, visible_tables, ghost_columns, &
-            fetch_neighbours, select_best, sort_by_key, merge_by_key
+            fetch_neighbours, select_best, sort_by_key, merge_by_key, append_gid
 
   !> Relative tolerance under which two candidate scores count as equal (the
   !> smaller key wins): far above round-off, far below real differences.
@@ -203,14 +203,7 @@ contains
     !> Remember a new non-owned member (its neighbours are fetched next).
     subroutine push_new(gid)
       integer(gp), intent(in) :: gid
-      integer(gp), allocatable :: tmp(:)
-      if (nnew == size(newg)) then
-        allocate(tmp(2 * size(newg)))
-        tmp(1:nnew) = newg(1:nnew)
-        call move_alloc(tmp, newg)
-      end if
-      nnew = nnew + 1
-      newg(nnew) = gid
+      call append_gid(newg, nnew, gid)
     end subroutine push_new
 
     !> Work arrays sized for the visible rows and the largest pattern.
@@ -791,4 +784,19 @@ contains
       a = a + 1
     end do
   end subroutine merge_by_key
+
+  !> list(1:n) gets gid appended (the list doubles when full).
+  subroutine append_gid(list, n, gid)
+    integer(gp), allocatable, intent(inout) :: list(:)
+    integer(ip), intent(inout) :: n
+    integer(gp), intent(in) :: gid
+    integer(gp), allocatable :: tmp(:)
+    if (n == size(list)) then
+      allocate(tmp(max(16, 2 * size(list))))
+      tmp(1:n) = list(1:n)
+      call move_alloc(tmp, list)
+    end if
+    n = n + 1
+    list(n) = gid
+  end subroutine append_gid
 end module afsai

@@ -30,7 +30,7 @@ module block_fsai
   use global_csr, only: global_csr_t, row_store_t, fetch_rows, gcsr_transpose, gcsr_multiply, gcsr_add
   use fsai_params, only: fsai_params_t
   use afsai, only: check_square, visible_id, visible_gid, visible_row, visible_tables, ghost_columns, &
-    fetch_neighbours, select_best, sort_by_key, merge_by_key
+    fetch_neighbours, select_best, sort_by_key, merge_by_key, append_gid
   implicit none
   private
 
@@ -219,14 +219,7 @@ contains
     !> Remember a new non-owned member (its neighbours are fetched next).
     subroutine push_new(gid)
       integer(gp), intent(in) :: gid
-      integer(gp), allocatable :: tmp(:)
-      if (nnew == size(newg)) then
-        allocate(tmp(2 * size(newg)))
-        tmp(1:nnew) = newg(1:nnew)
-        call move_alloc(tmp, newg)
-      end if
-      nnew = nnew + 1
-      newg(nnew) = gid
+      call append_gid(newg, nnew, gid)
     end subroutine push_new
 
     !> Work arrays sized for the visible rows and the largest pattern.
