@@ -96,6 +96,8 @@ contains
     if (status%ok()) call load_histories(comm, bcs, status)
     if (status%ok()) call read_sources(d, log, srcs, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
+    if (d%count('fault') > 0) call log%fatal(comm, "deck '"//trim(d%path)//"': &fault groups need "// &
+      "physics = 'contact' in &run")
     if (scfg%method == 'cg') call log%fatal(comm, "deck '"//trim(d%path)//"', group &solver, variable method: "// &
       "the Biot system is not symmetric positive definite: use 'fgmres' or 'mumps'")
     if (scfg%method == 'fgmres' .and. scfg%precon /= 'block') call log%fatal(comm, "deck '"//trim(d%path)// &

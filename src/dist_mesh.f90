@@ -8,6 +8,16 @@
 !> (in global order), then ghosts (in global order). With this layer, every
 !> cell that touches an owned node or face is local, so the matrix pattern of
 !> owned rows is known without communication.
+!>
+!> Interface elements of faults (mesh.f90 explains their layout) belong to
+!> the rank that owns their minus cell and are numbered like the cells. The
+!> ghost layer grows across faults: the nodes of the owned cells are
+!> "touched", and so are, for every interface element and position k, both
+!> copies (k,1) and (k,2) as soon as one is (to the fixed point); a cell is
+!> local when it has a touched node, an interface element when both its cells
+!> are. So every interface element that touches an owned node, and every
+!> interface element that shares a node with an owned one, is local with both
+!> its cells: the contact rows of owned dofs are known without communication.
 module dist_mesh
   use kinds, only: rp, ip, gp, name_len, msg_len
   use parallel_comm, only: parallel_comm_t
@@ -42,6 +52,14 @@ module dist_mesh
     integer(ip) :: n_sfaces = 0                     !< tagged quads whose face is local
     integer(ip), allocatable :: sface_face(:), sface_set(:)
     integer(ip), allocatable :: set_node_ptr(:), set_nodes(:)  !< local nodes on each set (CSR layout)
+    ! interface elements (faults)
+    type(index_map_t) :: iface_map                 !< owned interface elements, contiguous global ids
+    integer(ip) :: n_ifaces = 0                    !< local (owned + ghost)
+    integer(ip), allocatable :: iface_nodes(:,:,:) !< (4, 2, n_ifaces) local node ids
+    integer(ip), allocatable :: iface_cells(:,:)   !< (2, n_ifaces) local cell ids: minus, plus
+    integer(ip), allocatable :: iface_fault(:)     !< (n_ifaces) index into fault_names
+    integer(gp), allocatable :: iface_orig(:)      !< original (pre-partition) ids: ordering keys
+    character(len=name_len), allocatable :: fault_names(:)
   contains
     procedure :: build
     procedure :: n_owned_nodes
@@ -51,6 +69,7 @@ module dist_mesh
     procedure :: region_id
     procedure :: cell_volume
     procedure :: node_keys
+    procedure :: iface_keys
     procedure :: free
   end type dist_mesh_t
 
@@ -65,9 +84,11 @@ contains
     integer(ip), intent(inout), allocatable :: part(:)
     type(error_status_t), intent(inout) :: status
     integer(ip), allocatable :: node_owner(:), face_owner(:), g2l(:), lcells(:), lnodes(:), lfaces(:)
-    integer(gp), allocatable :: node_gid(:), cell_gid(:), face_gid(:)
+    integer(ip), allocatable :: iface_owner(:), lifaces(:)
+    integer(gp), allocatable :: node_gid(:), cell_gid(:), face_gid(:), iface_gid(:)
     logical, allocatable :: touched(:), is_local(:)
-    integer(ip) :: me, c, k, n, f, s, nown, i, j
+    integer(ip) :: me, c, k, n, f, s, nown, i, j, e
+    logical :: grew
 
     call self%free()
     self%comm = comm
@@ -95,12 +116,30 @@ contains
     self%n_nodes_global = gmesh%n_nodes
     self%n_cells_global = gmesh%n_cells
     self%n_faces_global = gmesh%n_faces
+    allocate(iface_owner(gmesh%n_ifaces))
+    do e = 1, gmesh%n_ifaces
+      iface_owner(e) = part(gmesh%iface_cells(1, e))
+    end do
+    iface_gid = renumber(iface_owner, comm%size)
 
     ! local cells: owned, then ghosts sharing a node with an owned cell
     allocate(touched(gmesh%n_nodes), is_local(gmesh%n_cells))
     touched = .false.
     do c = 1, gmesh%n_cells
       if (part(c) == me) touched(gmesh%cell_nodes(:, c)) = .true.
+    end do
+    ! across faults: both copies of a node position, to the fixed point
+    grew = gmesh%n_ifaces > 0
+    do while (grew)
+      grew = .false.
+      do e = 1, gmesh%n_ifaces
+        do k = 1, 4
+          if (touched(gmesh%iface_nodes(k, 1, e)) .neqv. touched(gmesh%iface_nodes(k, 2, e))) then
+            touched(gmesh%iface_nodes(k, :, e)) = .true.
+            grew = .true.
+          end if
+        end do
+      end do
     end do
     do c = 1, gmesh%n_cells
       is_local(c) = part(c) == me .or. any(touched(gmesh%cell_nodes(:, c)))
@@ -185,6 +224,37 @@ contains
       self%face_cells(2, i) = 0
       if (gmesh%face_cells(2, f) > 0) self%face_cells(2, i) = g2l(gmesh%face_cells(2, f))
     end do
+    ! local interface elements: both cells local
+    deallocate(is_local)
+    allocate(is_local(gmesh%n_ifaces))
+    do e = 1, gmesh%n_ifaces
+      is_local(e) = all(g2l(gmesh%iface_cells(:, e)) > 0)
+    end do
+    call ordered_local(is_local, iface_owner == me, iface_gid, lifaces)
+    nown = count(iface_owner == me)
+    self%n_ifaces = size(lifaces, kind=ip)
+    call self%iface_map%init(comm, nown, iface_gid(lifaces(nown+1:)))
+    allocate(self%iface_cells(2, self%n_ifaces), self%iface_nodes(4, 2, self%n_ifaces))
+    allocate(self%iface_fault(self%n_ifaces), self%iface_orig(self%n_ifaces))
+    do i = 1, self%n_ifaces
+      self%iface_cells(:, i) = g2l(gmesh%iface_cells(:, lifaces(i)))
+      self%iface_fault(i) = gmesh%iface_fault(lifaces(i))
+    end do
+    self%iface_orig = int(lifaces, gp)
+    g2l = 0
+    do i = 1, self%n_nodes
+      g2l(lnodes(i)) = i
+    end do
+    do i = 1, self%n_ifaces
+      self%iface_nodes(:, 1, i) = g2l(gmesh%iface_nodes(:, 1, lifaces(i)))
+      self%iface_nodes(:, 2, i) = g2l(gmesh%iface_nodes(:, 2, lifaces(i)))
+    end do
+    if (allocated(gmesh%fault_names)) then
+      self%fault_names = gmesh%fault_names
+    else
+      allocate(self%fault_names(0))
+    end if
+
     self%cell_region = gmesh%cell_region(lcells)
     self%cell_owner = part(lcells)
     allocate(self%node_orig(self%n_nodes), self%cell_orig(self%n_cells), self%face_orig(self%n_faces))
@@ -294,10 +364,20 @@ contains
   subroutine bcast_mesh(comm, m)
     type(parallel_comm_t), intent(in) :: comm
     type(mesh_t), intent(inout) :: m
-    integer(ip) :: sizes(6), i
+    integer(ip) :: sizes(8), i
+    integer(ip), allocatable :: buf(:,:)
+    if (comm%is_root()) then
+      ! a mesh without faults: empty interface arrays, so that every rank sees the same
+      if (.not. allocated(m%iface_nodes)) then
+        m%n_ifaces = 0
+        allocate(m%iface_nodes(4, 2, 0), m%iface_cells(2, 0), m%iface_fault(0))
+      end if
+      if (.not. allocated(m%fault_names)) allocate(m%fault_names(0))
+    end if
     if (comm%size == 1) return
     if (comm%is_root()) sizes = [m%n_nodes, m%n_cells, m%n_sfaces, m%n_faces, &
-                                 size(m%region_names, kind=ip), size(m%set_names, kind=ip)]
+                                 size(m%region_names, kind=ip), size(m%set_names, kind=ip), &
+                                 m%n_ifaces, size(m%fault_names, kind=ip)]
     call comm%bcast(sizes)
     if (.not. comm%is_root()) then
       call m%free()
@@ -307,6 +387,9 @@ contains
       allocate(m%face_nodes(4, m%n_faces), m%face_cells(2, m%n_faces))
       allocate(m%cell_faces(6, m%n_cells), m%cell_face_sign(6, m%n_cells))
       allocate(m%region_names(sizes(5)), m%set_names(sizes(6)))
+      m%n_ifaces = sizes(7)
+      allocate(m%iface_nodes(4, 2, m%n_ifaces), m%iface_cells(2, m%n_ifaces), m%iface_fault(m%n_ifaces))
+      allocate(m%fault_names(sizes(8)))
     end if
     call comm%bcast(m%coords)
     call comm%bcast(m%cell_nodes)
@@ -323,6 +406,16 @@ contains
     end do
     do i = 1, sizes(6)
       call comm%bcast(m%set_names(i))
+    end do
+    call comm%bcast(m%iface_cells)
+    call comm%bcast(m%iface_fault)
+    ! one message for the (4, 2, n) node ids
+    allocate(buf(8, m%n_ifaces))
+    if (comm%is_root()) buf = reshape(m%iface_nodes, [8_ip, m%n_ifaces])
+    call comm%bcast(buf)
+    m%iface_nodes = reshape(buf, [4_ip, 2_ip, m%n_ifaces])
+    do i = 1, sizes(8)
+      call comm%bcast(m%fault_names(i))
     end do
   end subroutine bcast_mesh
 
@@ -382,6 +475,7 @@ contains
     call self%node_map%free()
     call self%cell_map%free()
     call self%face_map%free()
+    call self%iface_map%free()
     if (allocated(self%coords)) deallocate(self%coords)
     if (allocated(self%cell_nodes)) deallocate(self%cell_nodes)
     if (allocated(self%cell_region)) deallocate(self%cell_region)
@@ -398,6 +492,12 @@ contains
     if (allocated(self%set_node_ptr)) deallocate(self%set_node_ptr)
     if (allocated(self%set_nodes)) deallocate(self%set_nodes)
     if (allocated(self%node_orig)) deallocate(self%node_orig, self%cell_orig, self%face_orig)
+    if (allocated(self%iface_nodes)) deallocate(self%iface_nodes)
+    if (allocated(self%iface_cells)) deallocate(self%iface_cells)
+    if (allocated(self%iface_fault)) deallocate(self%iface_fault)
+    if (allocated(self%iface_orig)) deallocate(self%iface_orig)
+    if (allocated(self%fault_names)) deallocate(self%fault_names)
+    self%n_ifaces = 0
     self%n_nodes = 0
     self%n_cells = 0
     self%n_faces = 0
@@ -418,4 +518,18 @@ contains
       end do
     end do
   end subroutine node_keys
+
+  !> Partition-independent ordering keys of the 3 dofs (e.g. the traction
+  !> components) of each owned interface element: 3 (original id - 1) + c.
+  subroutine iface_keys(self, keys)
+    class(dist_mesh_t), intent(in) :: self
+    integer(gp), allocatable, intent(out) :: keys(:)
+    integer(ip) :: e, c
+    allocate(keys(3 * self%iface_map%n_owned))
+    do e = 1, self%iface_map%n_owned
+      do c = 1, 3
+        keys(3*(e-1) + c) = 3 * (self%iface_orig(e) - 1) + c
+      end do
+    end do
+  end subroutine iface_keys
 end module dist_mesh

@@ -67,6 +67,8 @@ contains
     if (status%ok()) call fcfg%read(d, log, status)
     if (status%ok()) call load_histories(comm, bcs, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
+    if (d%count('fault') > 0) call log%fatal(comm, "deck '"//trim(d%path)//"': &fault groups need "// &
+      "physics = 'contact' in &run")
 
     do c = 1, size(bcs)
       if (bcs(c)%type == 'pressure' .or. bcs(c)%type == 'flux') call log%fatal(comm, "&boundary on set '"// &

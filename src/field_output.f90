@@ -44,14 +44,17 @@ contains
   end subroutine init
 
   !> One output time: displacement per node [m], stress per cell [Pa] (Tensor6,
-  !> xx xy xz yy yz zz), region id and rank per cell. Collective.
-  subroutine write_step(self, mesh, time, u_loc, stress, status)
+  !> xx xy xz yy yz zz), region id and rank per cell. With keep_open the step
+  !> stays open for further grids' fields (the caller ends it with
+  !> self%writer%end_step). Collective.
+  subroutine write_step(self, mesh, time, u_loc, stress, status, keep_open)
     class(field_output_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), intent(in) :: time
     real(rp), intent(in) :: u_loc(:)          !< displacement, 3 per local node (interleaved)
     real(rp), intent(in) :: stress(:,:)       !< (6, owned cells)
     type(error_status_t), intent(inout) :: status
+    logical, intent(in), optional :: keep_open
     real(rp), allocatable :: u(:,:)
     integer(ip) :: nn, nc
     integer(ip), allocatable :: ids(:)
@@ -68,6 +71,9 @@ contains
     if (status%ok()) then
       ids = mesh%cell_owner(1:nc)
       call self%writer%cell_field('rank', ids, status)
+    end if
+    if (present(keep_open)) then
+      if (keep_open) return
     end if
     if (status%ok()) call self%writer%end_step(status)
   end subroutine write_step

@@ -12,6 +12,7 @@ program geoblock
   use run_config, only: run_config_t
   use elastic_driver, only: run_elasticity
   use biot_driver, only: run_biot
+  use contact_driver, only: run_contact
   implicit none
 
   type(parallel_comm_t) :: comm
@@ -31,8 +32,8 @@ program geoblock
   call d%load(comm, trim(path), status)
   if (status%ok()) call d%check_groups( &
     [character(len=16) :: 'run', 'mesh', 'material', 'boundary', 'time', 'solver', 'amg', 'output', 'biot', 'source', &
-     'afsai', 'block_fsai'], &
-    [character(len=16) :: 'material', 'boundary', 'source'], status)
+     'afsai', 'block_fsai', 'fault', 'contact'], &
+    [character(len=16) :: 'material', 'boundary', 'source', 'fault'], status)
   if (status%ok()) call run%read(d, log, status)
   if (.not. status%ok()) call log%fatal(comm, status%msg)
   log%verbosity = run%verbosity
@@ -55,6 +56,8 @@ program geoblock
     call run_elasticity(comm, log, d, run)
   case ('biot')
     call run_biot(comm, log, d, run)
+  case ('contact')
+    call run_contact(comm, log, d, run)
   end select
   call log%close()
   call comm%finalize()

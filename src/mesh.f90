@@ -5,6 +5,22 @@
 !> Regions and tagged surfaces (boundary sets, and internal surfaces kept for
 !> faults) carry names. build_faces() derives the unique faces with their
 !> orientation (for RT0 fluxes) and matches each tagged surface quad to its face.
+!>
+!> Faults and fractures (filled by fault_split): zero-thickness interface
+!> elements between two cells whose shared nodes have been split, so that the
+!> two sides can move apart. Interface element e joins the minus cell
+!> iface_cells(1,e) and the plus cell iface_cells(2,e):
+!> - iface_nodes(:,1,e) are the minus cell's nodes of the shared face in that
+!>   cell's hex_face_nodes order (counter-clockwise seen from outside the minus
+!>   cell), so the right-hand normal (x3-x1) x (x4-x2) points from the minus
+!>   side into the plus side;
+!> - iface_nodes(k,2,e) is the plus-side copy of iface_nodes(k,1,e): the same
+!>   coordinates, and the same id where the node is not split (a fracture tip);
+!> - the minus cell is the one that makes the unit normal n point "up":
+!>   n_z > 0 if |n_z| > 1e-6; otherwise n_y > 0 if |n_y| > 1e-6; otherwise n_x > 0.
+!> iface_fault(e) indexes fault_names. After the split the two sides of a
+!> fault are two boundary faces of faces/face_cells (no flux across them), and
+!> the fault surfaces are no longer tagged sets.
 module mesh
   use kinds, only: rp, ip, name_len, msg_len
   use error_status, only: error_status_t
@@ -44,6 +60,13 @@ module mesh
     integer(ip), allocatable :: cell_faces(:,:)     !< (6, n_cells)
     integer(ip), allocatable :: cell_face_sign(:,:) !< (6, n_cells): +1 if the face normal points out of the cell
     integer(ip), allocatable :: sface_face(:)       !< (n_sfaces) face id of each tagged quad
+    ! interface elements of faults (see the module header)
+    integer(ip) :: n_ifaces = 0
+    integer(ip), allocatable :: iface_nodes(:,:,:)  !< (4, 2, n_ifaces): (:,1,e) minus-side nodes,
+                                                    !< (:,2,e) plus-side nodes at the same positions
+    integer(ip), allocatable :: iface_cells(:,:)    !< (2, n_ifaces): minus cell, plus cell
+    integer(ip), allocatable :: iface_fault(:)      !< (n_ifaces) index into fault_names
+    character(len=name_len), allocatable :: fault_names(:)
   contains
     procedure :: build_faces
     procedure :: check
@@ -301,9 +324,14 @@ contains
     if (allocated(self%cell_faces)) deallocate(self%cell_faces)
     if (allocated(self%cell_face_sign)) deallocate(self%cell_face_sign)
     if (allocated(self%sface_face)) deallocate(self%sface_face)
+    if (allocated(self%iface_nodes)) deallocate(self%iface_nodes)
+    if (allocated(self%iface_cells)) deallocate(self%iface_cells)
+    if (allocated(self%iface_fault)) deallocate(self%iface_fault)
+    if (allocated(self%fault_names)) deallocate(self%fault_names)
     self%n_nodes = 0
     self%n_cells = 0
     self%n_sfaces = 0
     self%n_faces = 0
+    self%n_ifaces = 0
   end subroutine free
 end module mesh

@@ -5,12 +5,24 @@
 !>   nx, ny, nz                cells per axis, for the box (>= 1)          [required for box]
 !>   lower(3), upper(3)        box extents [m]                            [0,0,0], [1,1,1]
 !>   grading(3)                last/first cell size ratio per axis (> 0)  [1,1,1]
+!>   core_n(3)                 box: uniform cells in a core refinement per axis;
+!>                             0 = no core on that axis (>= 0)             [0,0,0]
+!>   core_lower(3), core_upper(3)  box: the core [m] along the axes with
+!>                             core_n > 0, inside [lower, upper]; the other
+!>                             n - core_n cells grow geometrically away from
+!>                             the core (its size next to it), shared by the
+!>                             parts below and above by length, at least one
+!>                             each: core_n <= n - 2 when the core touches
+!>                             neither end, n - 1 when it touches one, = n when
+!>                             it spans the box; grading is ignored on that axis
+!>                             (values on axes with core_n = 0 are ignored)
+!>                                                                  [required there]
 module mesh_config
   use kinds, only: rp, ip, path_len, msg_len
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len, unset_int
-  use strings, only: itoa
+  use deck, only: deck_t, line_len, echo_len, unset_int, unset_real
+  use strings, only: itoa, rtoa
   implicit none
   private
 
@@ -21,6 +33,8 @@ module mesh_config
     character(len=path_len) :: file = ''
     integer(ip) :: n(3) = 0
     real(rp) :: lower(3) = 0.0_rp, upper(3) = 1.0_rp, grading(3) = 1.0_rp
+    integer(ip) :: core_n(3) = 0
+    real(rp) :: core_lower(3) = 0.0_rp, core_upper(3) = 0.0_rp   !< [m], used where core_n > 0
   contains
     procedure :: read => read_mesh_config
   end type mesh_config_t
@@ -36,16 +50,19 @@ contains
     character(len=16) :: source
     character(len=path_len) :: file
     integer :: nx, ny, nz, ios
-    real(rp) :: lower(3), upper(3), grading(3)
+    real(rp) :: lower(3), upper(3), grading(3), core_lower(3), core_upper(3)
+    integer :: core_n(3), n_parts, nn(3)
+    real(rp) :: tol
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(32)
     character(len=32) :: got
     integer :: i
-    namelist /mesh/ source, file, nx, ny, nz, lower, upper, grading
+    namelist /mesh/ source, file, nx, ny, nz, lower, upper, grading, core_n, core_lower, core_upper
 
     source = 'box'; file = ''; nx = unset_int; ny = unset_int; nz = unset_int
     lower = 0.0_rp; upper = 1.0_rp; grading = 1.0_rp
+    core_n = 0; core_lower = unset_real; core_upper = unset_real
     if (d%count('mesh') == 0) then
       call status%set("deck '"//trim(d%path)//"': group &mesh is missing")
       return
@@ -75,8 +92,39 @@ contains
           call d%fail(status, 'mesh', 1, 'grading('//trim(got)//')', 'must be positive')
         end if
       end do
+      if (.not. status%ok()) return
+      nn = [nx, ny, nz]
+      do i = 1, 3
+        write(got, '(i0)') i
+        if (core_n(i) < 0) call d%fail(status, 'mesh', 1, 'core_n('//trim(got)//')', 'must not be negative (got '// &
+                                       itoa(core_n(i))//')')
+        if (core_n(i) <= 0) cycle
+        if (core_lower(i) == unset_real) call d%fail(status, 'mesh', 1, 'core_lower('//trim(got)//')', &
+                                                     'required with core_n('//trim(got)//') > 0')
+        if (core_upper(i) == unset_real) call d%fail(status, 'mesh', 1, 'core_upper('//trim(got)//')', &
+                                                     'required with core_n('//trim(got)//') > 0')
+        if (.not. status%ok()) return
+        tol = 1.0e-12_rp * (upper(i) - lower(i))
+        if (core_lower(i) < lower(i) - tol .or. core_upper(i) > upper(i) + tol .or. core_upper(i) <= core_lower(i)) &
+          call d%fail(status, 'mesh', 1, 'core_lower('//trim(got)//')', 'the core ['//rtoa(core_lower(i))//', '// &
+                      rtoa(core_upper(i))//'] must be a non-empty interval inside ['//rtoa(lower(i))//', '// &
+                      rtoa(upper(i))//']')
+        n_parts = count([core_lower(i) - lower(i) > tol, upper(i) - core_upper(i) > tol])
+        if (status%ok() .and. core_n(i) > nn(i) - n_parts) &
+          call d%fail(status, 'mesh', 1, 'core_n('//trim(got)//')', 'must be at most n - '//itoa(n_parts)//' = '// &
+                      itoa(nn(i) - n_parts)//' (one cell at least for each part of the box outside the '// &
+                      'core; got '//itoa(core_n(i))//')')
+        if (status%ok() .and. n_parts == 0 .and. core_n(i) /= nn(i)) &
+          call d%fail(status, 'mesh', 1, 'core_n('//trim(got)//')', 'must equal n = '//itoa(nn(i))// &
+                      ' when the core spans the box (got '//itoa(core_n(i))//')')
+      end do
+      if (all(core_n == 0) .and. (any(core_lower /= unset_real) .or. any(core_upper /= unset_real))) &
+        call d%fail(status, 'mesh', 1, 'core_n', 'core_lower and core_upper need core_n > 0 on some axis')
     case ('gmsh')
       if (len_trim(file) == 0) call d%fail(status, 'mesh', 1, 'file', "required when source = 'gmsh'")
+      if (any(core_n /= 0)) call d%fail(status, 'mesh', 1, 'core_n', "only for source = 'box'")
+      if (any(core_lower /= unset_real)) call d%fail(status, 'mesh', 1, 'core_lower', "only for source = 'box'")
+      if (any(core_upper /= unset_real)) call d%fail(status, 'mesh', 1, 'core_upper', "only for source = 'box'")
     case default
       call d%fail(status, 'mesh', 1, 'source', "must be 'box' or 'gmsh' (got '"//trim(source)//"')")
     end select
@@ -87,6 +135,11 @@ contains
     self%lower = lower
     self%upper = upper
     self%grading = grading
+    self%core_n = core_n
+    self%core_lower = merge(core_lower, 0.0_rp, core_n > 0)
+    self%core_upper = merge(core_upper, 0.0_rp, core_n > 0)
+    where (core_lower == unset_real) core_lower = 0.0_rp
+    where (core_upper == unset_real) core_upper = 0.0_rp
     echo = ''
     write(echo, nml=mesh, iostat=ios)
     call d%echo(log, echo)

@@ -1,9 +1,11 @@
 !> Deck groups &run, &time and &output: run control.
 !>
 !> &run      title        free text shown in the log                         ['']
-!>           physics      'elasticity' or 'biot' (three-field poromechanics)  ['elasticity']
+!>           physics      'elasticity', 'biot' (three-field poromechanics) or
+!>                        'contact' (elasticity with frictional faults, &fault
+!>                        and &contact groups)                              ['elasticity']
 !>           verbosity    0 quiet, 1 progress lines, 2 also the deck echo     [1]
-!> &time     n_steps      elasticity: load steps; loads grow linearly and reach
+!> &time     n_steps      elasticity, contact: load steps; loads grow linearly and reach
 !>                        their full value at the last step (>= 1)           [1]
 !>           dt           biot: first time step [s] (> 0)                    [required for biot]
 !>           t_end        biot: end time [s] (> 0)                           [required for biot]
@@ -81,8 +83,9 @@ contains
         call d%read_error('run', 1, ios, msg, status)
         return
       end if
-      if (physics /= 'elasticity' .and. physics /= 'biot') &
-        call d%fail(status, 'run', 1, 'physics', "must be 'elasticity' or 'biot' (got '"//trim(physics)//"')")
+      if (physics /= 'elasticity' .and. physics /= 'biot' .and. physics /= 'contact') &
+        call d%fail(status, 'run', 1, 'physics', "must be 'elasticity', 'biot' or 'contact' (got '"// &
+                    trim(physics)//"')")
       if (verbosity < 0 .or. verbosity > 2) &
         call d%fail(status, 'run', 1, 'verbosity', 'must be 0, 1 or 2 (got '//itoa(verbosity)//')')
     end if

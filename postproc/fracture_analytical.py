@@ -1,0 +1,72 @@
+"""Analytical solutions for cracks in an infinite elastic medium (plane strain).
+
+Reference solutions of geoblock's contact verification (tests/verification/
+contact.sh) and plots (postproc/plot_fracture.py). numpy only.
+
+Conventions (geoblock's): tractions positive in tension, so a compressive
+normal traction t_N is negative; the jump is u_plus - u_minus, g_N > 0 opens.
+All functions take numpy arrays and SI units (m, Pa).
+
+Sources
+-------
+* I. N. Sneddon, "The distribution of stress in the neighbourhood of a crack
+  in an elastic solid", Proc. R. Soc. Lond. A 187 (1946) 229-260; the plane
+  strain (Griffith) crack under uniform internal pressure p:
+      g_N(x) = 4 (1 - nu^2) p / E * sqrt(b^2 - x^2),  |x| <= b.
+* C. Phan, J. A. L. Napier, L. J. Gray, S. Song and G. H. Paulino (2003),
+  frictional contact of a closed crack with the symmetric-Galerkin boundary
+  element method, and A. Franceschini, N. Castelletto, J. A. White and
+  H. A. Tchelepi, CMAME 368 (2020) 113161, section on the inclined fracture:
+  a closed straight crack of half-length b at angle psi to a uniaxial
+  compression sigma, Coulomb friction coefficient mu (no cohesion). With
+  cot(psi) > mu the whole crack slips and
+      t_N = -sigma sin^2(psi),   |t_T| = mu |t_N|,
+      |g_T|(s) = 4 (1 - nu^2) / E * sigma sin(psi) (cos(psi) - mu sin(psi))
+                 * sqrt(b^2 - s^2),
+  the slip being the plane strain crack opening under the excess shear
+  sigma sin(psi) (cos(psi) - mu sin(psi)).
+"""
+import numpy as np
+
+
+def sneddon_opening(x, b, p, young, poisson):
+    """Opening g_N [m] at distance x [m] from the centre of a plane strain
+    crack of half-length b under internal pressure p [Pa]."""
+    x = np.asarray(x, dtype=float)
+    return 4.0 * (1.0 - poisson**2) * p / young * np.sqrt(np.maximum(b * b - x * x, 0.0))
+
+
+def inclined_crack(s, b, sigma, psi_deg, friction_angle_deg, young, poisson):
+    """Slip |g_T| [m], normal traction t_N [Pa] and tangential traction
+    |t_T| [Pa] at distance s [m] from the centre of a closed crack of
+    half-length b at psi degrees from a uniaxial compression sigma > 0 [Pa],
+    friction angle in degrees. Raises ValueError if the crack would not slip."""
+    s = np.asarray(s, dtype=float)
+    psi = np.radians(psi_deg)
+    mu = np.tan(np.radians(friction_angle_deg))
+    excess = sigma * np.sin(psi) * (np.cos(psi) - mu * np.sin(psi))
+    if excess <= 0.0:
+        raise ValueError("the crack sticks: cot(psi) <= tan(friction angle)")
+    slip = 4.0 * (1.0 - poisson**2) / young * excess * np.sqrt(np.maximum(b * b - s * s, 0.0))
+    tn = -sigma * np.sin(psi) ** 2 * np.ones_like(s)
+    tt = mu * np.abs(tn)
+    return slip, tn, tt
+
+
+def relative_l2(num, ref, mask=None):
+    """||num - ref|| / ||ref|| over mask (all entries by default)."""
+    num = np.asarray(num, dtype=float)
+    ref = np.asarray(ref, dtype=float)
+    if mask is not None:
+        num, ref = num[mask], ref[mask]
+    return float(np.linalg.norm(num - ref) / np.linalg.norm(ref))
+
+
+if __name__ == "__main__":
+    # self-check: the slip equals the opening of a crack under the excess shear
+    x = np.linspace(-1.0, 1.0, 11)
+    slip, tn, tt = inclined_crack(x, 1.0, 1.0e7, 20.0, 30.0, 1.0e10, 0.25)
+    excess = 1.0e7 * np.sin(np.radians(20)) * (np.cos(np.radians(20)) - np.tan(np.radians(30)) * np.sin(np.radians(20)))
+    assert np.allclose(slip, sneddon_opening(x, 1.0, excess, 1.0e10, 0.25))
+    assert abs(sneddon_opening(0.0, 1.0, 1.0e6, 1.0e10, 0.25) - 3.75e-4) < 1e-15
+    print("fracture_analytical: self-check passed")

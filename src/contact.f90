@@ -1,0 +1,754 @@
+!> Frictional contact on faults and fractures: Q1 displacements with split
+!> nodes on the faults, one traction vector per interface element (P0, in the
+!> element's local frame: normal, two tangential components) as Lagrange
+!> multiplier, Coulomb friction with cohesion, and the algebraic
+!> stabilization H_t of Franceschini, Castelletto, White and Tchelepi (CMAME
+!> 368 (2020) 113161) that the Q1-P0 pair needs.
+!>
+!> Unknowns and equations (block system, u and t in the order chosen at init):
+!>   K u + C1 (t - t_p) = f                         momentum
+!>   r_t(u, t) = 0, per element and by status:       contact
+!>     stick: A g_N = 0 and A (g_T - g_T^n) = 0, each stabilized: - H v
+!>     slip : A g_N - H v = 0 (normal only) and -s (t_T - tau(t_N) d) = 0,
+!>            tau = c - tan(phi) t_N, d the unit direction of the slip
+!>            increment g_T - g_T^n (of t_T while that is zero)
+!>     open : -s t = 0
+!> with g = R [[u]] the mean jump across the element in its frame ([[u]] =
+!> u_plus - u_minus, so g_N > 0 opens), A the area, t the traction on the
+!> minus side (t_N < 0 in compression), t_p = (p, 0, 0) the prescribed fluid
+!> pressure p on the faces, v = (t_N, t_T - t_T^n) and s a per-element scale
+!> (the diagonal of C2 diag(K)^-1 C1) that keeps the open and slip rows in
+!> proportion with the others. C1 = integral of [[N]]^T R^T; for stick rows
+!> the Jacobian block C2 is C1^T, so the stick problem is the symmetric
+!> saddle point [K C1; C1^T -H_t].
+!>
+!> H_t: for every edge shared by two interface elements e1, e2 of a fault,
+!>   M = sum over the edge's split nodes of w1 w2 diag(1/K_minus + 1/K_plus),
+!> where w are the nodal areas of the node in the two elements and K_side the
+!> diagonal stiffness of the node from the two cells of that side (the
+!> macro-element of the two elements), and H gets R1 M R1^T, R2 M R2^T on the
+!> diagonal and -sigma R1 M R2^T off it (sigma = -1 when the two elements see
+!> the fault from opposite sides). Only the constrained components take part:
+!> three for stick, the normal one for slip, none for open. This follows the
+!> paper's macro-element argument (the jump of the multipliers between
+!> neighbours is penalized by the local Schur complement) with the exact
+!> element-stiffness diagonals in place of its closed-form estimate.
+!>
+!> Newton's method works on increments: the prescribed displacements are
+!> imposed at the start of every load step, so the Jacobian's columns of
+!> prescribed dofs are zero.
+module contact
+  use kinds, only: rp, ip, gp, msg_len
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use csr_matrix, only: csr_matrix_t
+  use block_matrix, only: block_matrix_t
+  use dist_mesh, only: dist_mesh_t
+  use dof_map, only: dof_map_t
+  use sparsity, only: element_pattern
+  use elasticity, only: elasticity_t
+  use material_config, only: material_config_t
+  use boundary_config, only: boundary_config_t
+  use fault_config, only: fault_config_t
+  use interface_element, only: interface_geometry
+  implicit none
+  private
+
+  public :: contact_t, state_stick, state_slip, state_open, state_names
+
+  integer, parameter :: state_stick = 1, state_slip = 2, state_open = 3
+  character(len=5), parameter :: state_names(3) = ['stick', 'slip ', 'open ']
+  real(rp), parameter :: deg = acos(-1.0_rp) / 180.0_rp
+
+  type :: contact_t
+    type(elasticity_t) :: mech
+    type(dof_map_t) :: t                           !< 3 traction components per interface element
+    type(block_matrix_t) :: sys                    !< Jacobian
+    integer :: bu = 1, bt = 2                      !< block indices of u and t
+    logical :: stabilized = .true.
+    real(rp), allocatable :: x(:)                  !< current state, owned block vector [m, Pa]
+    real(rp), allocatable :: rhs(:)                !< -residual, owned block vector
+    real(rp), allocatable :: f_u(:)                !< load of the momentum rows (prescribed dofs lifted)
+    real(rp), allocatable :: u(:)                  !< local displacement (owned + ghosts) [m]
+    ! per local interface element
+    real(rp), allocatable :: area(:), wn(:,:), rot(:,:,:)  !< [m^2], (4,n) nodal areas, (3,3,n) frame rows
+    real(rp), allocatable :: s(:)                  !< scale of the open and slip rows [m^3/Pa]
+    real(rp), allocatable :: fric(:), coh(:), pres(:)      !< tan(phi), cohesion [Pa], fluid pressure [Pa]
+    integer, allocatable :: state(:), state_step(:)
+    logical, allocatable :: fresh(:)               !< slip since the last update: direction from t_T
+    real(rp), allocatable :: trac(:,:), trac_step(:,:)     !< (3,n) local-frame traction [Pa]
+    real(rp), allocatable :: jump(:,:), jump_step(:,:)     !< (3,n) local-frame mean jump [m]
+    real(rp), allocatable :: u_step(:)
+    ! stabilization edges
+    integer(ip) :: n_edges = 0
+    integer(ip), allocatable :: edge(:,:)          !< (2, n_edges) local elements
+    real(rp), allocatable :: eb(:,:,:,:)           !< (3,3,3,n_edges): blocks 11, 12, 22
+    integer(ip), allocatable :: elem_edges(:,:)    !< (4, n) edges of each element (0 = none)
+    real(rp) :: length = 1.0_rp                    !< mesh size scale [m] (sqrt of the mean element area)
+    type(fault_config_t), allocatable :: faults(:)
+    integer :: fault_of_set = 0
+  contains
+    procedure :: init
+    procedure :: assemble_stiffness
+    procedure :: assemble_newton
+    procedure :: take_solution
+    procedure :: update_states
+    procedure :: begin_step
+    procedure :: restore_step
+    procedure :: count_states
+    procedure :: ht_diagonal
+    procedure :: free
+  end type contact_t
+
+contains
+
+  !> Fields, patterns, geometry and stabilization of the faults of mesh.
+  !> t_first puts the tractions in block 1 (the reordered preconditioner).
+  !> Collective.
+  subroutine init(self, mesh, mats, bcs, faults, stabilized, t_first, status)
+    class(contact_t), intent(inout), target :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    type(material_config_t), intent(in) :: mats(:)
+    type(boundary_config_t), intent(in) :: bcs(:)
+    type(fault_config_t), intent(in) :: faults(:)
+    logical, intent(in) :: stabilized, t_first
+    type(error_status_t), intent(inout) :: status
+    integer(ip), allocatable :: row_ptr(:), col(:), conn8(:,:), self_conn(:,:), pairs(:,:)
+    integer(ip) :: e, n, f, nown
+
+    call self%free()
+    call self%mech%init(mesh, mats, bcs, status)
+    if (.not. status%ok()) return
+    call self%mech%k%free()                       ! the block system holds K
+    self%stabilized = stabilized
+    self%faults = faults
+    if (t_first) then
+      self%bt = 1
+      self%bu = 2
+    end if
+    n = mesh%n_ifaces
+    call self%t%init('traction', mesh%iface_map, 3_ip)
+    nown = mesh%iface_map%n_owned
+    allocate(conn8(8, n), self_conn(1, n))
+    do e = 1, n
+      conn8(1:4, e) = mesh%iface_nodes(:, 1, e)
+      conn8(5:8, e) = mesh%iface_nodes(:, 2, e)
+      self_conn(1, e) = e
+    end do
+
+    call geometry(self, mesh)
+    call find_edges(self, mesh)
+    call edge_blocks(self, mesh)
+
+    block
+      integer(ip) :: no(2)
+      no(self%bu) = self%mech%u%n_owned()
+      no(self%bt) = self%t%n_owned()
+      call self%sys%init(no)
+    end block
+    associate (umap => self%mech%u%map, tmap => self%t%map, bu => self%bu, bt => self%bt)
+      call element_pattern(mesh%node_map%n_owned, mesh%cell_nodes, mesh%cell_nodes, 3_ip, 3_ip, row_ptr, col)
+      call self%sys%set_pattern(bu, bu, umap, umap, row_ptr, col)
+      call element_pattern(mesh%node_map%n_owned, conn8, self_conn, 3_ip, 3_ip, row_ptr, col)
+      call self%sys%set_pattern(bu, bt, umap, tmap, row_ptr, col)
+      call element_pattern(nown, self_conn, conn8, 3_ip, 3_ip, row_ptr, col)
+      call self%sys%set_pattern(bt, bu, tmap, umap, row_ptr, col)
+      allocate(pairs(2, n + self%n_edges))
+      pairs(:, 1:n) = spread(self_conn(1, :), 1, 2)
+      pairs(:, n+1:) = self%edge
+      call element_pattern(nown, pairs, pairs, 3_ip, 3_ip, row_ptr, col)
+      call self%sys%set_pattern(bt, bt, tmap, tmap, row_ptr, col)
+    end associate
+    call assemble_c1(self, mesh)
+
+    ! fault properties and initial state
+    allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%state_step(n))
+    do e = 1, n
+      f = fault_index(self, mesh, mesh%iface_fault(e))
+      if (f == 0) then
+        call status%set("fault '"//trim(mesh%fault_names(mesh%iface_fault(e)))//"' of the mesh has no &fault group")
+        return
+      end if
+      self%fric(e) = tan(faults(f)%friction_angle * deg)
+      self%coh(e) = faults(f)%cohesion
+      self%pres(e) = 0.0_rp
+      self%state(e) = state_stick
+      if (faults(f)%initial_state == 'open') self%state(e) = state_open
+    end do
+    self%state_step = self%state
+    allocate(self%fresh(n))
+    self%fresh = .false.
+    allocate(self%trac(3, n), self%trac_step(3, n), self%jump(3, n), self%jump_step(3, n))
+    self%trac = 0.0_rp
+    self%trac_step = 0.0_rp
+    self%jump = 0.0_rp
+    self%jump_step = 0.0_rp
+    allocate(self%x(self%sys%offset(3)), self%rhs(self%sys%offset(3)))
+    self%x = 0.0_rp
+    allocate(self%u(self%mech%u%n_local()), self%u_step(self%mech%u%n_local()), self%f_u(self%mech%u%n_owned()))
+    self%u = 0.0_rp
+    self%u_step = 0.0_rp
+  end subroutine init
+
+  integer function fault_index(self, mesh, mf)
+    type(contact_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: mf
+    integer :: f
+    fault_index = 0
+    do f = 1, size(self%faults)
+      if (self%faults(f)%name == mesh%fault_names(mf)) fault_index = f
+    end do
+  end function fault_index
+
+  !> Area, nodal areas and frame of every local element; the mesh size scale.
+  subroutine geometry(self, mesh)
+    type(contact_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip) :: e, n, nown
+    real(rp) :: a_sum, n_sum
+    type(parallel_comm_t) :: comm
+    n = mesh%n_ifaces
+    allocate(self%area(n), self%wn(4, n), self%rot(3, 3, n))
+    do e = 1, n
+      call interface_geometry(mesh%coords(:, mesh%iface_nodes(:, 1, e)), self%area(e), self%wn(:, e), self%rot(:, :, e))
+    end do
+    comm = mesh%comm
+    nown = mesh%iface_map%n_owned
+    a_sum = comm%sum(sum(self%area(1:nown)))
+    n_sum = comm%sum(real(nown, rp))
+    if (n_sum > 0.0_rp) self%length = sqrt(a_sum / n_sum)
+  end subroutine geometry
+
+  !> Pairs of local elements sharing an edge (exactly two elements on it)
+  !> with at least one of them owned. Positions on a fault are identified by
+  !> the smaller of their two node ids, so that the two sides and either
+  !> orientation give the same key.
+  subroutine find_edges(self, mesh)
+    type(contact_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), allocatable :: key(:,:), order(:)
+    integer(ip) :: n, e, k, i, a, b, m, nown, e1, e2, j
+    n = mesh%n_ifaces
+    nown = mesh%iface_map%n_owned
+    allocate(key(4, 4*n), order(4*n))
+    m = 0
+    do e = 1, n
+      do k = 1, 4
+        a = min(mesh%iface_nodes(k, 1, e), mesh%iface_nodes(k, 2, e))
+        b = min(mesh%iface_nodes(mod(k, 4) + 1, 1, e), mesh%iface_nodes(mod(k, 4) + 1, 2, e))
+        m = m + 1
+        key(:, m) = [min(a, b), max(a, b), e, k]
+      end do
+    end do
+    call sort_pairs(key, order)
+    allocate(self%edge(2, 2*n), self%elem_edges(4, n))
+    self%elem_edges = 0
+    self%n_edges = 0
+    i = 1
+    do while (i <= m)
+      j = i
+      do while (j < m)
+        if (any(key(1:2, order(j+1)) /= key(1:2, order(i)))) exit
+        j = j + 1
+      end do
+      if (j == i + 1) then
+        e1 = key(3, order(i))
+        e2 = key(3, order(j))
+        if (e1 /= e2 .and. (e1 <= nown .or. e2 <= nown)) then
+          self%n_edges = self%n_edges + 1
+          self%edge(:, self%n_edges) = [min(e1, e2), max(e1, e2)]
+          self%elem_edges(key(4, order(i)), e1) = self%n_edges
+          self%elem_edges(key(4, order(j)), e2) = self%n_edges
+        end if
+      end if
+      i = j + 1
+    end do
+    self%edge = self%edge(:, 1:self%n_edges)
+  end subroutine find_edges
+
+  !> Sort the columns of key(4, m) by (key(1), key(2)); order(i) is the
+  !> column of rank i. Heap sort (no recursion, O(m log m)).
+  subroutine sort_pairs(key, order)
+    integer(ip), intent(in) :: key(:,:)
+    integer(ip), intent(out) :: order(:)
+    integer(ip) :: m, i, root, child, t, last
+    m = size(order, kind=ip)
+    order = [(i, i = 1, m)]
+    do i = m / 2, 1, -1
+      call sift(i, m)
+    end do
+    do last = m, 2, -1
+      t = order(1); order(1) = order(last); order(last) = t
+      call sift(1_ip, last - 1)
+    end do
+  contains
+    logical function less(p, q)
+      integer(ip), intent(in) :: p, q
+      less = key(1, p) < key(1, q) .or. (key(1, p) == key(1, q) .and. key(2, p) < key(2, q))
+    end function less
+    subroutine sift(start, n)
+      integer(ip), intent(in) :: start, n
+      root = start
+      do while (2 * root <= n)
+        child = 2 * root
+        if (child < n) then
+          if (less(order(child), order(child + 1))) child = child + 1
+        end if
+        if (.not. less(order(root), order(child))) return
+        t = order(root); order(root) = order(child); order(child) = t
+        root = child
+      end do
+    end subroutine sift
+  end subroutine sort_pairs
+
+  !> The 3x3 blocks of H_t of every edge (see the module header).
+  subroutine edge_blocks(self, mesh)
+    type(contact_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), allocatable :: kd(:,:)
+    logical, allocatable :: done(:)
+    real(rp) :: mm(3, 3), inv(3), kdm(3), kdp(3), sigma
+    integer(ip) :: ed, e1, e2, q, k1, k2, nm, np, cm(2), cp(2), ks(2)
+    logical :: found
+    allocate(self%eb(3, 3, 3, self%n_edges))
+    allocate(kd(24, mesh%n_cells), done(mesh%n_cells))
+    done = .false.
+    do ed = 1, self%n_edges
+      e1 = self%edge(1, ed)
+      e2 = self%edge(2, ed)
+      mm = 0.0_rp
+      sigma = 0.0_rp
+      ks = pack([1_ip, 2_ip, 3_ip, 4_ip], self%elem_edges(:, e1) == ed, [0_ip, 0_ip])
+      do q = 0, 1
+        k1 = mod(ks(1) - 1 + q, 4) + 1
+        nm = mesh%iface_nodes(k1, 1, e1)
+        np = mesh%iface_nodes(k1, 2, e1)
+        if (nm == np) cycle                            ! a tip: no jump there
+        found = .false.
+        do k2 = 1, 4
+          if (mesh%iface_nodes(k2, 1, e2) == nm) then
+            found = .true.
+            if (sigma == 0.0_rp) sigma = 1.0_rp
+            cm = [mesh%iface_cells(1, e1), mesh%iface_cells(1, e2)]
+            cp = [mesh%iface_cells(2, e1), mesh%iface_cells(2, e2)]
+            exit
+          else if (mesh%iface_nodes(k2, 2, e2) == nm) then
+            found = .true.
+            if (sigma == 0.0_rp) sigma = -1.0_rp
+            cm = [mesh%iface_cells(1, e1), mesh%iface_cells(2, e2)]
+            cp = [mesh%iface_cells(2, e1), mesh%iface_cells(1, e2)]
+            exit
+          end if
+        end do
+        if (.not. found) cycle                         ! a junction of faults
+        kdm = node_diag(cm(1), nm) + node_diag(cm(2), nm)
+        kdp = node_diag(cp(1), np) + node_diag(cp(2), np)
+        inv = 1.0_rp / kdm + 1.0_rp / kdp
+        mm(1, 1) = mm(1, 1) + self%wn(k1, e1) * self%wn(k2, e2) * inv(1)
+        mm(2, 2) = mm(2, 2) + self%wn(k1, e1) * self%wn(k2, e2) * inv(2)
+        mm(3, 3) = mm(3, 3) + self%wn(k1, e1) * self%wn(k2, e2) * inv(3)
+      end do
+      associate (r1 => self%rot(:, :, e1), r2 => self%rot(:, :, e2))
+        self%eb(:, :, 1, ed) = matmul(r1, matmul(mm, transpose(r1)))
+        self%eb(:, :, 2, ed) = -sigma * matmul(r1, matmul(mm, transpose(r2)))
+        self%eb(:, :, 3, ed) = matmul(r2, matmul(mm, transpose(r2)))
+      end associate
+    end do
+  contains
+    !> Diagonal stiffness (x, y, z) of node nd from cell c alone.
+    function node_diag(c, nd) result(v)
+      integer(ip), intent(in) :: c, nd
+      real(rp) :: v(3), ke(24, 24)
+      integer(ip) :: a, i
+      if (.not. done(c)) then
+        call self%mech%element_stiffness(mesh, c, ke)
+        kd(:, c) = [(ke(i, i), i = 1, 24)]
+        done(c) = .true.
+      end if
+      v = 0.0_rp
+      do a = 1, 8
+        if (mesh%cell_nodes(a, c) == nd) v = kd(3*a-2:3*a, c)
+      end do
+    end function node_diag
+  end subroutine edge_blocks
+
+  !> C1 = integral of [[N]]^T R^T over the owned elements (rows of the
+  !> prescribed dofs left out). Constant: assembled once.
+  subroutine assemble_c1(self, mesh)
+    type(contact_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp) :: be(3, 24)
+    integer(ip) :: e, j, rows(24), cols(3)
+    associate (c1 => self%sys%a(self%bu, self%bt))
+      call c1%zero()
+      do e = 1, mesh%iface_map%n_owned
+        call jump_operator(self, mesh, e, be, rows)
+        do j = 1, 24
+          if (self%mech%fixed(rows(j))) rows(j) = 0
+        end do
+        cols = self%t%dof(e, [1_ip, 2_ip, 3_ip])
+        call c1%add_block(rows, cols, transpose(be))
+      end do
+      call c1%finalize_assembly()
+    end associate
+  end subroutine assemble_c1
+
+  !> be(3, 24) = C1^T block of element e (local frame rows; columns the x, y,
+  !> z dofs of its 4 minus-side then 4 plus-side nodes) and those dofs.
+  subroutine jump_operator(self, mesh, e, be, dofs)
+    type(contact_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: e
+    real(rp), intent(out) :: be(3, 24)
+    integer(ip), intent(out) :: dofs(24)
+    integer(ip) :: a, s
+    real(rp) :: sg
+    do s = 1, 2
+      sg = merge(-1.0_rp, 1.0_rp, s == 1)
+      do a = 1, 4
+        be(:, 12*(s-1) + 3*a-2 : 12*(s-1) + 3*a) = sg * self%wn(a, e) * self%rot(:, :, e)
+        dofs(12*(s-1) + 3*a-2 : 12*(s-1) + 3*a) = self%mech%u%dof(mesh%iface_nodes(a, s, e), [1_ip, 2_ip, 3_ip])
+      end do
+    end do
+  end subroutine jump_operator
+
+  !> Assemble K and the momentum load at load factor lf (fault pressures at
+  !> lf too); on the first call also the row scales s. Collective.
+  subroutine assemble_stiffness(self, mesh, lf)
+    class(contact_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: lf
+    real(rp), allocatable :: d(:)
+    real(rp) :: kn(2)
+    integer(ip) :: e, a, s, nd
+    call self%mech%set_time(lf)
+    call self%mech%assemble_into(mesh, lf, self%sys%a(self%bu, self%bu), self%f_u)
+    do e = 1, mesh%n_ifaces
+      associate (f => self%faults(fault_index(self, mesh, mesh%iface_fault(e))))
+        self%pres(e) = lf * f%pressure * f%factor(lf)
+      end associate
+    end do
+    if (.not. allocated(self%s)) then
+      allocate(d(self%mech%u%n_local()), self%s(mesh%n_ifaces))
+      d = 0.0_rp
+      call self%sys%a(self%bu, self%bu)%diagonal(d(1:self%mech%u%n_owned()))
+      call self%mech%u%map%import(d)
+      do e = 1, mesh%n_ifaces
+        self%s(e) = 0.0_rp
+        do a = 1, 4
+          do s = 1, 2
+            nd = mesh%iface_nodes(a, s, e)
+            kn(s) = sum(d(self%mech%u%dof(nd, [1_ip, 2_ip, 3_ip]))) / 3.0_rp
+          end do
+          self%s(e) = self%s(e) + self%wn(a, e)**2 * (1.0_rp / kn(1) + 1.0_rp / kn(2))
+        end do
+      end do
+    end if
+  end subroutine assemble_stiffness
+
+  !> Start a load step at load factor lf: remember the state (for a cut),
+  !> impose the prescribed displacements. Collective.
+  subroutine begin_step(self, lf)
+    class(contact_t), intent(inout) :: self
+    real(rp), intent(in) :: lf
+    integer(ip) :: i, u0, u1
+    self%u_step = self%u
+    self%trac_step = self%trac
+    self%jump_step = self%jump
+    self%state_step = self%state
+    do i = 1, self%mech%u%n_local()
+      if (self%mech%fixed(i)) self%u(i) = lf * self%mech%prescribed_value(i)
+    end do
+    call self%sys%block_range(self%bu, u0, u1)
+    self%x(u0:u1) = self%u(1:u1-u0+1)
+  end subroutine begin_step
+
+  !> Back to the state at the start of the step (before a step cut).
+  subroutine restore_step(self)
+    class(contact_t), intent(inout) :: self
+    integer(ip) :: u0, u1, t0, t1
+    self%u = self%u_step
+    self%trac = self%trac_step
+    self%jump = self%jump_step
+    self%state = self%state_step
+    self%fresh = .false.
+    call self%sys%block_range(self%bu, u0, u1)
+    call self%sys%block_range(self%bt, t0, t1)
+    self%x(u0:u1) = self%u(1:u1-u0+1)
+    self%x(t0:t1) = reshape(self%trac(:, 1:(t1-t0+1)/3), [t1-t0+1])
+  end subroutine restore_step
+
+  !> The Jacobian blocks of the contact rows and rhs = -residual at the
+  !> current state (x, u, trac, jump, state). Collective.
+  subroutine assemble_newton(self, mesh)
+    class(contact_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), allocatable :: tp(:), w(:)
+    real(rp) :: be(3, 24), jt(3, 24), r(3), v(3), hb(3, 3), dd(2), dg(2), tau, nrm, p2(2, 2)
+    integer(ip) :: e, j, k, ed, o, dofs(24), cols(3), ne, no, u0, u1, t0, t1, i
+    associate (jtu => self%sys%a(self%bt, self%bu), jtt => self%sys%a(self%bt, self%bt))
+      call jtu%zero()
+      call jtt%zero()
+      call self%sys%block_range(self%bu, u0, u1)
+      call self%sys%block_range(self%bt, t0, t1)
+      do e = 1, mesh%iface_map%n_owned
+        call jump_operator(self, mesh, e, be, dofs)
+        do j = 1, 24
+          if (self%mech%fixed(dofs(j))) be(:, j) = 0.0_rp
+        end do
+        cols = self%t%dof(e, [1_ip, 2_ip, 3_ip])
+        ne = ncon(self%state(e))
+        r = 0.0_rp
+        jt = 0.0_rp
+        select case (self%state(e))
+        case (state_stick)
+          jt = be
+          r(1) = self%area(e) * self%jump(1, e)
+          r(2:3) = self%area(e) * (self%jump(2:3, e) - self%jump_step(2:3, e))
+        case (state_slip)
+          jt(1, :) = be(1, :)
+          r(1) = self%area(e) * self%jump(1, e)
+          tau = self%coh(e) - self%fric(e) * self%trac(1, e)
+          dg = self%jump(2:3, e) - self%jump_step(2:3, e)
+          nrm = norm2(dg)
+          hb = 0.0_rp
+          if (nrm > slip_eps(self) .and. .not. self%fresh(e)) then
+            dd = dg / nrm
+            p2 = -spread(dd, 2, 2) * spread(dd, 1, 2)
+            p2(1, 1) = p2(1, 1) + 1.0_rp
+            p2(2, 2) = p2(2, 2) + 1.0_rp
+            jt(2:3, :) = self%s(e) * tau / (nrm * self%area(e)) * matmul(p2, be(2:3, :))
+          else if (norm2(self%trac(2:3, e)) > 0.0_rp) then
+            dd = self%trac(2:3, e) / norm2(self%trac(2:3, e))
+          else
+            dd = 0.0_rp
+          end if
+          r(2:3) = -self%s(e) * (self%trac(2:3, e) - tau * dd)
+          hb(2, 2) = -self%s(e)
+          hb(3, 3) = -self%s(e)
+          hb(2:3, 1) = -self%s(e) * self%fric(e) * dd
+          call jtt%add_block(cols, cols, hb)
+        case (state_open)
+          r = -self%s(e) * self%trac(:, e)
+          hb = 0.0_rp
+          hb(1, 1) = -self%s(e)
+          hb(2, 2) = -self%s(e)
+          hb(3, 3) = -self%s(e)
+          call jtt%add_block(cols, cols, hb)
+        end select
+        call jtu%add_block(cols, dofs, jt)
+        ! stabilization: -H restricted to the constrained components
+        if (self%stabilized .and. ne > 0) then
+          do k = 1, 4
+            ed = self%elem_edges(k, e)
+            if (ed == 0) cycle
+            if (self%edge(1, ed) == e) then
+              o = self%edge(2, ed)
+              hb = self%eb(:, :, 1, ed)
+              call add_h(hb, e)
+              hb = self%eb(:, :, 2, ed)
+              call add_h(hb, o)
+            else
+              o = self%edge(1, ed)
+              hb = self%eb(:, :, 3, ed)
+              call add_h(hb, e)
+              hb = transpose(self%eb(:, :, 2, ed))
+              call add_h(hb, o)
+            end if
+          end do
+        end if
+        self%rhs(t0 + 3*(e-1) : t0 + 3*e - 1) = -r
+      end do
+      call jtu%finalize_assembly()
+      call jtt%finalize_assembly()
+      ! momentum rows: -(K u + C1 (t - t_p) - f)
+      no = self%t%n_owned()
+      allocate(tp(no), w(u1 - u0 + 1))
+      tp = self%x(t0:t1)
+      do e = 1, mesh%iface_map%n_owned
+        tp(3*e-2) = tp(3*e-2) - self%pres(e)
+      end do
+      call self%sys%apply_block(self%bu, self%bu, self%x(u0:u1), self%rhs(u0:u1))
+      call self%sys%apply_block(self%bu, self%bt, tp, w)
+      self%rhs(u0:u1) = self%f_u - self%rhs(u0:u1) - w
+      do i = 1, u1 - u0 + 1
+        if (self%mech%fixed(i)) self%rhs(u0 + i - 1) = 0.0_rp
+      end do
+    end associate
+  contains
+    !> Row e gets -hb(1:ne, 1:n_o) on the columns of o and the residual -hb v(o).
+    subroutine add_h(hbl, oe)
+      real(rp), intent(in) :: hbl(3, 3)
+      integer(ip), intent(in) :: oe
+      integer(ip) :: no2, cols_o(3)
+      real(rp) :: blk(3, 3)
+      no2 = ncon(self%state(oe))
+      if (no2 == 0) return
+      cols_o = self%t%dof(oe, [1_ip, 2_ip, 3_ip])
+      blk = 0.0_rp
+      blk(1:ne, 1:no2) = -hbl(1:ne, 1:no2)
+      call self%sys%a(self%bt, self%bt)%add_block(cols(1:ne), cols_o(1:no2), blk(1:ne, 1:no2))
+      v(1) = self%trac(1, oe)
+      v(2:3) = self%trac(2:3, oe) - self%trac_step(2:3, oe)
+      r(1:ne) = r(1:ne) - matmul(hbl(1:ne, 1:no2), v(1:no2))
+    end subroutine add_h
+  end subroutine assemble_newton
+
+  !> Constrained traction components of a status.
+  pure integer(ip) function ncon(st)
+    integer, intent(in) :: st
+    select case (st)
+    case (state_stick)
+      ncon = 3
+    case (state_slip)
+      ncon = 1
+    case default
+      ncon = 0
+    end select
+  end function ncon
+
+  !> Slip increments below this count as none [m].
+  real(rp) function slip_eps(self)
+    type(contact_t), intent(in) :: self
+    slip_eps = 1.0e-12_rp * self%length
+  end function slip_eps
+
+  !> Take the owned block vector x as the new state: local displacements and
+  !> tractions with ghosts, mean jumps of the local elements. Collective.
+  subroutine take_solution(self, mesh)
+    class(contact_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), allocatable :: tl(:)
+    real(rp) :: be(3, 24)
+    integer(ip) :: u0, u1, t0, t1, e, dofs(24)
+    call self%sys%block_range(self%bu, u0, u1)
+    call self%sys%block_range(self%bt, t0, t1)
+    self%u(1:u1-u0+1) = self%x(u0:u1)
+    call self%mech%u%map%import(self%u)
+    allocate(tl(self%t%n_local()))
+    tl = 0.0_rp
+    tl(1:t1-t0+1) = self%x(t0:t1)
+    call self%t%map%import(tl)
+    self%trac = reshape(tl, [3, mesh%n_ifaces])
+    do e = 1, mesh%n_ifaces
+      call jump_operator(self, mesh, e, be, dofs)
+      self%jump(:, e) = matmul(be, self%u(dofs)) / self%area(e)
+    end do
+  end subroutine take_solution
+
+  !> Active-set update of the owned elements from the current state, ghosts
+  !> synchronized. Returns the global number of changes. Collective.
+  integer(gp) function update_states(self, mesh, tol) result(changed)
+    class(contact_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: tol                    !< relative tolerance of the checks
+    type(parallel_comm_t) :: comm
+    real(rp) :: t_ref, g_ref, tau, dg(2)
+    real(rp), allocatable :: st(:)
+    integer(ip) :: e, nown
+    integer :: new
+    comm = mesh%comm
+    nown = mesh%iface_map%n_owned
+    t_ref = 0.0_rp
+    g_ref = 0.0_rp
+    if (nown > 0) then
+      t_ref = maxval(abs(self%trac(:, 1:nown)))
+      t_ref = max(t_ref, maxval(abs(self%pres(1:nown))), maxval(self%coh(1:nown)))
+      g_ref = maxval(abs(self%jump(:, 1:nown)))
+    end if
+    t_ref = comm%max(t_ref)
+    g_ref = max(comm%max(g_ref), 1.0e-9_rp * self%length)
+    changed = 0
+    do e = 1, nown
+      new = self%state(e)
+      tau = self%coh(e) - self%fric(e) * self%trac(1, e)
+      dg = self%jump(2:3, e) - self%jump_step(2:3, e)
+      select case (self%state(e))
+      case (state_stick)
+        if (self%trac(1, e) > tol * t_ref) then
+          new = state_open
+        else if (norm2(self%trac(2:3, e)) > tau + tol * t_ref) then
+          new = state_slip
+        end if
+      case (state_slip)
+        if (self%trac(1, e) > tol * t_ref) then
+          new = state_open
+        else if (norm2(dg) <= tol * g_ref .or. dot_product(dg, self%trac(2:3, e)) < 0.0_rp) then
+          new = state_stick
+        end if
+      case (state_open)
+        if (self%jump(1, e) < -tol * g_ref) new = state_stick
+      end select
+      if (new /= self%state(e)) changed = changed + 1
+      ! a new slip element takes its direction from the trial traction: the
+      ! tiny jump the stabilization lets through in stick has no meaning
+      self%fresh(e) = new == state_slip .and. self%state(e) /= state_slip
+      self%state(e) = new
+    end do
+    changed = comm%sum(changed)
+    allocate(st(mesh%n_ifaces))
+    st = real(self%state, rp)
+    call mesh%iface_map%import(st)
+    self%state = nint(st)
+  end function update_states
+
+  !> Global number of owned elements in each status. Collective.
+  function count_states(self, mesh) result(n)
+    class(contact_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(gp) :: n(3)
+    integer :: k
+    type(parallel_comm_t) :: comm
+    comm = mesh%comm
+    do k = 1, 3
+      n(k) = comm%sum(int(count(self%state(1:mesh%iface_map%n_owned) == k), gp))
+    end do
+  end function count_states
+
+  !> The regular diagonal H~ of the contact rows (owned t dofs): the diagonal
+  !> of -J_tt where it is positive, else the row scale s; times scale.
+  !> With use_h = .false. it is scale * s everywhere (the augmentation D).
+  subroutine ht_diagonal(self, mesh, scale, use_h, h)
+    class(contact_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: scale
+    logical, intent(in) :: use_h
+    real(rp), intent(out) :: h(:)
+    integer(ip) :: e, c, i
+    if (use_h) then
+      call self%sys%a(self%bt, self%bt)%diagonal(h)
+      h = -h
+    else
+      h = 0.0_rp
+    end if
+    do e = 1, mesh%iface_map%n_owned
+      do c = 1, 3
+        i = 3 * (e - 1) + c
+        if (.not. (h(i) > 0.0_rp)) h(i) = self%s(e)
+      end do
+    end do
+    h = scale * h
+  end subroutine ht_diagonal
+
+  subroutine free(self)
+    class(contact_t), intent(inout) :: self
+    call self%sys%free()
+    call self%mech%free()
+    call self%t%free()
+    if (allocated(self%x)) deallocate(self%x, self%rhs)
+    if (allocated(self%f_u)) deallocate(self%f_u)
+    if (allocated(self%u)) deallocate(self%u, self%u_step)
+    if (allocated(self%area)) deallocate(self%area, self%wn, self%rot)
+    if (allocated(self%s)) deallocate(self%s)
+    if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, self%state_step, self%fresh)
+    if (allocated(self%trac)) deallocate(self%trac, self%trac_step, self%jump, self%jump_step)
+    if (allocated(self%edge)) deallocate(self%edge)
+    if (allocated(self%eb)) deallocate(self%eb)
+    if (allocated(self%elem_edges)) deallocate(self%elem_edges)
+    if (allocated(self%faults)) deallocate(self%faults)
+    self%n_edges = 0
+    self%bu = 1
+    self%bt = 2
+  end subroutine free
+end module contact

@@ -1,0 +1,94 @@
+!> Deck group &contact: the discretization of the contact conditions on the
+!> faults (&fault groups) and the active-set / Newton driver (physics = 'contact').
+!>
+!>   stabilization  'algebraic' (the jump stabilization H_t of Franceschini et
+!>                  al., CMAME 368 (2020) 113161, needed by the Q1-P0 pair) or
+!>                  'none' (the bare saddle point; use block = 'augmented')  ['algebraic']
+!>   block          preconditioner of the (u, t) system with method = 'fgmres':
+!>                  'reordered' (t first; S* = K + C1 H~^-1 C2 with a regular
+!>                  diagonal H~, BoomerAMG), 'classical' (u first; explicit
+!>                  S = -H_t - C2 diag(K)^-1 C1, preconditioned by schur_precon)
+!>                  or 'augmented' (reordered with H~ = D, the augmentation
+!>                  diagonal, whatever H_t is)                        ['reordered']
+!>   schur_precon   classical: 'boomeramg' or 'jacobi' for -S        ['boomeramg']
+!>   aug_scale      scale of the regular diagonal H~ (and D), > 0          [1]
+!>   max_newton     Newton / active-set iterations per load step, >= 1     [30]
+!>   newton_tol     relative size of the last Newton update of u and t, > 0 [1e-6]
+!>   status_tol     relative tolerance of the status checks (tractions against
+!>                  the largest traction, gaps against the largest jump), > 0 [1e-6]
+!>   max_cuts       halvings of a load step whose Newton loop does not
+!>                  converge before the run stops, >= 0                    [4]
+module contact_config
+  use kinds, only: rp, name_len, msg_len
+  use error_status, only: error_status_t
+  use logger, only: logger_t
+  use deck, only: deck_t, line_len, echo_len
+  use strings, only: itoa, rtoa
+  implicit none
+  private
+
+  public :: contact_config_t
+
+  type :: contact_config_t
+    character(len=name_len) :: stabilization = 'algebraic'
+    character(len=name_len) :: block = 'reordered'
+    character(len=name_len) :: schur_precon = 'boomeramg'
+    real(rp) :: aug_scale = 1.0_rp
+    integer :: max_newton = 30
+    real(rp) :: newton_tol = 1.0e-6_rp
+    real(rp) :: status_tol = 1.0e-6_rp
+    integer :: max_cuts = 4
+  contains
+    procedure :: read => read_contact_config
+  end type contact_config_t
+
+contains
+
+  !> Read and check &contact (optional group).
+  subroutine read_contact_config(self, d, log, status)
+    class(contact_config_t), intent(inout) :: self
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    character(len=name_len) :: stabilization, block, schur_precon
+    real(rp) :: aug_scale, newton_tol, status_tol
+    integer :: max_newton, max_cuts, ios
+    character(len=msg_len) :: msg
+    character(len=line_len), allocatable :: b(:)
+    character(len=echo_len) :: echo(12)
+    namelist /contact/ stabilization, block, schur_precon, aug_scale, max_newton, newton_tol, status_tol, max_cuts
+
+    stabilization = self%stabilization; block = self%block; schur_precon = self%schur_precon
+    aug_scale = self%aug_scale; max_newton = self%max_newton; newton_tol = self%newton_tol
+    status_tol = self%status_tol; max_cuts = self%max_cuts
+    if (d%count('contact') > 0) then
+      call d%block('contact', 1, b)
+      read(b, nml=contact, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call d%read_error('contact', 1, ios, msg, status)
+        return
+      end if
+    end if
+    if (stabilization /= 'algebraic' .and. stabilization /= 'none') call d%fail(status, 'contact', 1, &
+      'stabilization', "must be 'algebraic' or 'none' (got '"//trim(stabilization)//"')")
+    if (block /= 'reordered' .and. block /= 'classical' .and. block /= 'augmented') call d%fail(status, &
+      'contact', 1, 'block', "must be 'reordered', 'classical' or 'augmented' (got '"//trim(block)//"')")
+    if (schur_precon /= 'boomeramg' .and. schur_precon /= 'jacobi') call d%fail(status, 'contact', 1, &
+      'schur_precon', "must be 'boomeramg' or 'jacobi' (got '"//trim(schur_precon)//"')")
+    if (.not. (aug_scale > 0.0_rp)) call d%fail(status, 'contact', 1, 'aug_scale', &
+      'must be > 0 (got '//rtoa(aug_scale)//')')
+    if (max_newton < 1) call d%fail(status, 'contact', 1, 'max_newton', 'must be >= 1 (got '//itoa(max_newton)//')')
+    if (.not. (newton_tol > 0.0_rp .and. newton_tol < 1.0_rp)) call d%fail(status, 'contact', 1, 'newton_tol', &
+      'must lie in (0, 1) (got '//rtoa(newton_tol)//')')
+    if (.not. (status_tol > 0.0_rp .and. status_tol < 1.0_rp)) call d%fail(status, 'contact', 1, 'status_tol', &
+      'must lie in (0, 1) (got '//rtoa(status_tol)//')')
+    if (max_cuts < 0) call d%fail(status, 'contact', 1, 'max_cuts', 'must be >= 0 (got '//itoa(max_cuts)//')')
+    if (.not. status%ok()) return
+    self%stabilization = stabilization; self%block = block; self%schur_precon = schur_precon
+    self%aug_scale = aug_scale; self%max_newton = max_newton; self%newton_tol = newton_tol
+    self%status_tol = status_tol; self%max_cuts = max_cuts
+    echo = ''
+    write(echo, nml=contact, iostat=ios)
+    call d%echo(log, echo)
+  end subroutine read_contact_config
+end module contact_config

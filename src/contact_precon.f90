@@ -1,0 +1,219 @@
+!> Block preconditioners of the contact Jacobian [K C1; C2 -H] (C2 and the
+!> (t,t) block as the statuses make them), built in the general framework
+!> (block_precon.f90) as the seed's contact part describes:
+!>
+!>   classical  (u first)  upper block triangular with S_1 = BoomerAMG(K) and
+!>              the explicit Schur complement S = J_tt - C2 diag(K)^-1 C1,
+!>              preconditioned by BoomerAMG or Jacobi of -S;
+!>   reordered  (t first)  LDU of A* = [-H~ C2; C1 K] with H~ the regular
+!>              diagonal of H_t (contact%ht_diagonal): S_1 = -H~ (exact),
+!>              S_2 = BoomerAMG(S*), S* = K + C1 H~^-1 C2, a stiffness-like
+!>              matrix on which elasticity AMG works; the factors are implicit
+!>              (C2 and C1 times S_1^-1), so A*^-1 is applied up to the AMG;
+!>   augmented  the same with H~ = D, the augmentation diagonal (the row
+!>              scales s of contact), for the unstabilized saddle point.
+!>
+!> K does not change during a run: its AMG (classical) and its global copy
+!> for the products are made once; the Schur parts are rebuilt at every
+!> Newton iteration, because C2 and the (t,t) block follow the statuses.
+module contact_precon
+  use kinds, only: rp, ip, gp, name_len
+  use parallel_comm, only: wall_time
+  use error_status, only: error_status_t
+  use csr_matrix, only: csr_matrix_t
+  use global_csr, only: global_csr_t, from_csr, to_csr, gcsr_multiply, gcsr_add
+  use amg_params, only: amg_params_t
+  use precon, only: precon_t
+  use boomeramg_precon, only: boomeramg_precon_t
+  use jacobi_precon, only: jacobi_precon_t
+  use negated_precon, only: negated_precon_t
+  use block_precon, only: block_precon_t
+  use dist_mesh, only: dist_mesh_t
+  use contact, only: contact_t
+  use contact_config, only: contact_config_t
+  implicit none
+  private
+
+  public :: contact_precon_t
+
+  type :: contact_precon_t
+    type(block_precon_t) :: bp
+    type(csr_matrix_t) :: s                      !< S* (reordered, augmented) or -S (classical)
+    type(global_csr_t) :: gk, gc1                !< K and C1 (classical: diag(K)^-1 C1)
+    character(len=name_len) :: variant = ''
+    logical :: ready = .false.
+    real(rp) :: t_setup = 0.0_rp                 !< seconds of the last set-up
+    integer(gp) :: nnz_schur = 0                 !< non-zeros of the last Schur matrix
+  contains
+    procedure :: setup
+    procedure :: free
+  end type contact_precon_t
+
+contains
+
+  !> Set up (first call) or refresh (later calls: the Schur part) for the
+  !> current Jacobian of phys. amg: elasticity settings (for K and S*).
+  !> Collective.
+  subroutine setup(self, phys, mesh, ccfg, amg, status)
+    class(contact_precon_t), intent(inout) :: self
+    type(contact_t), intent(inout), target :: phys
+    type(dist_mesh_t), intent(in) :: mesh
+    type(contact_config_t), intent(in) :: ccfg
+    type(amg_params_t), intent(in) :: amg
+    type(error_status_t), intent(inout) :: status
+    class(precon_t), allocatable :: p
+    real(rp) :: t0
+    t0 = wall_time()
+    if (.not. self%ready) then
+      self%variant = ccfg%block
+      call self%bp%init(phys%sys, 'contact-'//trim(ccfg%block))
+      call from_csr(phys%sys%a(phys%bu, phys%bt), self%gc1)
+      if (self%variant == 'classical') then
+        allocate(boomeramg_precon_t :: p)
+        select type (p)
+        type is (boomeramg_precon_t)
+          call p%setup(phys%sys%a(phys%bu, phys%bu), amg, status)
+        end select
+        if (.not. status%ok()) return
+        call move_alloc(p, self%bp%s(phys%bu)%p)
+        call scale_rows_by_diagonal(phys%sys%a(phys%bu, phys%bu), self%gc1)
+        call self%bp%set_implicit(phys%bu, phys%bt, phys%bu)
+      else
+        call from_csr(phys%sys%a(phys%bu, phys%bu), self%gk)
+        call self%bp%set_implicit(phys%bt, phys%bu, phys%bt)
+        call self%bp%set_implicit(phys%bu, phys%bt, phys%bt)
+      end if
+      self%ready = .true.
+    end if
+    if (self%variant == 'classical') then
+      call classical_schur(self, phys, ccfg, amg, status)
+    else
+      call reordered_schur(self, phys, mesh, ccfg, amg, status)
+    end if
+    self%t_setup = wall_time() - t0
+  end subroutine setup
+
+  !> -S = -J_tt + C2 diag(K)^-1 C1 and its preconditioner, negated into S_2.
+  subroutine classical_schur(self, phys, ccfg, amg, status)
+    type(contact_precon_t), intent(inout) :: self
+    type(contact_t), intent(inout), target :: phys
+    type(contact_config_t), intent(in) :: ccfg
+    type(amg_params_t), intent(in) :: amg
+    type(error_status_t), intent(inout) :: status
+    type(global_csr_t) :: gc2, gtt, prod, negs
+    class(precon_t), allocatable :: p
+    type(amg_params_t) :: amg_s
+    call from_csr(phys%sys%a(phys%bt, phys%bu), gc2)
+    call from_csr(phys%sys%a(phys%bt, phys%bt), gtt)
+    call gcsr_multiply(gc2, self%gc1, prod)
+    call gcsr_add(-1.0_rp, gtt, 1.0_rp, prod, negs)
+    call self%s%free()
+    call to_csr(negs, phys%t%map, self%s)
+    self%nnz_schur = self%s%global_nnz()
+    if (ccfg%schur_precon == 'jacobi') then
+      allocate(jacobi_precon_t :: p)
+      select type (p)
+      type is (jacobi_precon_t)
+        call p%setup(self%s, status)
+      end select
+    else
+      amg_s = amg
+      amg_s%num_functions = 1
+      amg_s%strong_threshold = 0.25_rp
+      allocate(boomeramg_precon_t :: p)
+      select type (p)
+      type is (boomeramg_precon_t)
+        call p%setup(self%s, amg_s, status)
+      end select
+    end if
+    if (.not. status%ok()) return
+    call replace_negated(self%bp%s(phys%bt)%p, p)
+  end subroutine classical_schur
+
+  !> S_1 = -H~ and S_2 = BoomerAMG(K + C1 H~^-1 C2).
+  subroutine reordered_schur(self, phys, mesh, ccfg, amg, status)
+    type(contact_precon_t), intent(inout) :: self
+    type(contact_t), intent(inout), target :: phys
+    type(dist_mesh_t), intent(in) :: mesh
+    type(contact_config_t), intent(in) :: ccfg
+    type(amg_params_t), intent(in) :: amg
+    type(error_status_t), intent(inout) :: status
+    type(global_csr_t) :: gc2, prod, sstar
+    real(rp), allocatable :: h(:)
+    class(precon_t), allocatable :: p
+    integer(ip) :: i, k
+    allocate(h(phys%t%n_owned()))
+    call phys%ht_diagonal(mesh, ccfg%aug_scale, ccfg%block == 'reordered', h)
+    allocate(jacobi_precon_t :: p)
+    select type (p)
+    type is (jacobi_precon_t)
+      p%d = -h
+    end select
+    call replace(self%bp%s(phys%bt)%p, p)
+    call from_csr(phys%sys%a(phys%bt, phys%bu), gc2)
+    do i = 1, gc2%n_rows
+      do k = gc2%row_ptr(i), gc2%row_ptr(i + 1) - 1
+        gc2%val(k) = gc2%val(k) / h(i)
+      end do
+    end do
+    call gcsr_multiply(self%gc1, gc2, prod)
+    call gcsr_add(1.0_rp, self%gk, 1.0_rp, prod, sstar)
+    call self%s%free()
+    call to_csr(sstar, phys%mech%u%map, self%s)
+    self%nnz_schur = self%s%global_nnz()
+    allocate(boomeramg_precon_t :: p)
+    select type (p)
+    type is (boomeramg_precon_t)
+      call p%setup(self%s, amg, status)
+    end select
+    if (.not. status%ok()) return
+    call replace(self%bp%s(phys%bu)%p, p)
+  end subroutine reordered_schur
+
+  !> Rows of g divided by the diagonal of k (same row space).
+  subroutine scale_rows_by_diagonal(k, g)
+    type(csr_matrix_t), intent(in) :: k
+    type(global_csr_t), intent(inout) :: g
+    real(rp), allocatable :: d(:)
+    integer(ip) :: i, j
+    allocate(d(k%n_rows))
+    call k%diagonal(d)
+    do i = 1, g%n_rows
+      do j = g%row_ptr(i), g%row_ptr(i + 1) - 1
+        g%val(j) = g%val(j) / d(i)
+      end do
+    end do
+  end subroutine scale_rows_by_diagonal
+
+  !> Free the preconditioner in slot and move p in.
+  subroutine replace(slot, p)
+    class(precon_t), allocatable, intent(inout) :: slot, p
+    if (allocated(slot)) then
+      call slot%free()
+      deallocate(slot)
+    end if
+    call move_alloc(p, slot)
+  end subroutine replace
+
+  !> As replace, wrapping p (a preconditioner of -A) as one of A.
+  subroutine replace_negated(slot, p)
+    class(precon_t), allocatable, intent(inout) :: slot, p
+    class(precon_t), allocatable :: w
+    allocate(negated_precon_t :: w)
+    select type (w)
+    type is (negated_precon_t)
+      call w%init(p)
+    end select
+    call replace(slot, w)
+  end subroutine replace_negated
+
+  subroutine free(self)
+    class(contact_precon_t), intent(inout) :: self
+    call self%bp%free()
+    call self%s%free()
+    call self%gk%free()
+    call self%gc1%free()
+    self%ready = .false.
+    self%variant = ''
+  end subroutine free
+end module contact_precon

@@ -1,0 +1,234 @@
+!> Deck group &fault (any number, one per fault or fracture): where a fault
+!> lies and its contact properties.
+!>
+!>   name              name of the fault; with source = 'gmsh' the physical
+!>                     surface of the mesh that is the fault            [required]
+!> Geometry, for source = 'box' only (refused with 'gmsh', where the mesh file
+!> holds it): the fault lies on the node layer of the box nearest to position
+!> along normal_axis, made planar with the inclination dip (see box_mesh).
+!>   normal_axis       'x', 'y' or 'z': axis the (undipped) fault is normal to  ['y']
+!>   position          coordinate of the fault along normal_axis [m], at the
+!>                     middle of the box along dip_axis                  [required]
+!>   dip               inclination [degrees], |dip| < 80: the fault rises
+!>                     by tan(dip) along normal_axis per unit of dip_axis   [0]
+!>   dip_axis          'x', 'y' or 'z', not normal_axis     [first axis /= normal_axis]
+!>   lower(3), upper(3) in-plane extent [m]: the fault's quads are those whose
+!>                     centres (before the dip) lie within [lower, upper] in the
+!>                     two in-plane coordinates; the component along normal_axis
+!>                     is ignored. An extent strictly inside the box makes a
+!>                     fracture with tips                          [the whole box]
+!> Contact properties (used by the contact physics):
+!>   friction_angle    Coulomb friction angle [degrees], 0 <= . < 90        [30]
+!>   cohesion          [Pa], >= 0                                            [0]
+!>   pressure          fluid pressure acting on both faces [Pa]              [0]
+!>   pressure_history  optional file of "time factor" rows (# comments) that
+!>                     multiplies pressure, as history in &boundary         ['']
+!>   initial_state     'stick' or 'open'                                ['stick']
+module fault_config
+  use kinds, only: rp, name_len, msg_len, path_len
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use logger, only: logger_t
+  use deck, only: deck_t, line_len, echo_len, unset_real
+  use strings, only: rtoa
+  use boundary_config, only: boundary_config_t, load_histories
+  implicit none
+  private
+
+  public :: fault_config_t, read_faults, load_fault_histories
+
+  !> One &fault group, validated. lower/upper default to -huge/+huge (the
+  !> whole box); hist_t/hist_f hold the pressure history once loaded.
+  type :: fault_config_t
+    character(len=name_len) :: name = ''
+    ! geometry for source = 'box'
+    character(len=1) :: normal_axis = 'y'
+    real(rp) :: position = unset_real                !< [m]
+    real(rp) :: dip = 0.0_rp                         !< [degrees]
+    character(len=1) :: dip_axis = ''
+    real(rp) :: lower(3) = -huge(1.0_rp), upper(3) = huge(1.0_rp)   !< [m]
+    ! contact properties
+    real(rp) :: friction_angle = 30.0_rp             !< [degrees]
+    real(rp) :: cohesion = 0.0_rp                    !< [Pa]
+    real(rp) :: pressure = 0.0_rp                    !< [Pa]
+    character(len=path_len) :: pressure_history = ''
+    character(len=8) :: initial_state = 'stick'
+    real(rp), allocatable :: hist_t(:), hist_f(:)
+  contains
+    procedure :: factor
+    procedure :: normal_index
+    procedure :: dip_index
+  end type fault_config_t
+
+  character(len=*), parameter :: axes = 'xyz'
+
+contains
+
+  !> Read every &fault group for a mesh from source ('box' or 'gmsh').
+  subroutine read_faults(d, log, faults, status, source)
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(inout) :: log
+    type(fault_config_t), allocatable, intent(out) :: faults(:)
+    type(error_status_t), intent(inout) :: status
+    character(len=*), intent(in) :: source
+    character(len=name_len) :: name
+    character(len=1) :: normal_axis, dip_axis
+    real(rp) :: position, dip, lower(3), upper(3), friction_angle, cohesion, pressure
+    character(len=path_len) :: pressure_history
+    character(len=8) :: initial_state
+    integer :: k, j, i, ios
+    character(len=msg_len) :: msg
+    character(len=line_len), allocatable :: b(:)
+    character(len=echo_len) :: echo(24)
+    character(len=8) :: ic
+    namelist /fault/ name, normal_axis, position, dip, dip_axis, lower, upper, friction_angle, cohesion, &
+                     pressure, pressure_history, initial_state
+
+    allocate(faults(d%count('fault')))
+    do k = 1, size(faults)
+      name = ''; normal_axis = ' '; position = unset_real; dip = unset_real; dip_axis = ' '
+      lower = unset_real; upper = unset_real
+      friction_angle = 30.0_rp; cohesion = 0.0_rp; pressure = 0.0_rp; pressure_history = ''
+      initial_state = 'stick'
+      call d%block('fault', k, b)
+      read(b, nml=fault, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call d%read_error('fault', k, ios, msg, status)
+        return
+      end if
+      if (len_trim(name) == 0) call d%fail(status, 'fault', k, 'name', 'required')
+      do j = 1, k - 1
+        if (faults(j)%name == name) then
+          write(ic, '(i0)') j
+          call d%fail(status, 'fault', k, 'name', "'"//trim(name)//"' is already the name of &fault number "// &
+                      trim(ic)//' (fault names must be distinct)')
+        end if
+      end do
+      select case (source)
+      case ('box')
+        if (normal_axis == ' ') normal_axis = 'y'
+        if (index(axes, normal_axis) == 0) &
+          call d%fail(status, 'fault', k, 'normal_axis', "must be 'x', 'y' or 'z' (got '"//normal_axis//"')")
+        if (position == unset_real) call d%fail(status, 'fault', k, 'position', "required when the mesh is a box")
+        if (dip == unset_real) dip = 0.0_rp
+        if (.not. (abs(dip) < 80.0_rp)) &
+          call d%fail(status, 'fault', k, 'dip', 'must lie in (-80, 80) degrees (got '//rtoa(dip)//')')
+        if (dip_axis == ' ') then
+          dip_axis = 'x'
+          if (normal_axis == 'x') dip_axis = 'y'
+        end if
+        if (index(axes, dip_axis) == 0) then
+          call d%fail(status, 'fault', k, 'dip_axis', "must be 'x', 'y' or 'z' (got '"//dip_axis//"')")
+        else if (dip_axis == normal_axis) then
+          call d%fail(status, 'fault', k, 'dip_axis', "must differ from normal_axis ('"//normal_axis//"')")
+        end if
+        do i = 1, 3
+          if (axes(i:i) == normal_axis) cycle
+          if (lower(i) /= unset_real .and. upper(i) /= unset_real) then
+            if (upper(i) <= lower(i)) then
+              write(ic, '(i0)') i
+              call d%fail(status, 'fault', k, 'upper('//trim(ic)//')', 'must be greater than lower('//trim(ic)//')')
+            end if
+          end if
+        end do
+        where (lower == unset_real) lower = -huge(1.0_rp)
+        where (upper == unset_real) upper = huge(1.0_rp)
+      case ('gmsh')
+        if (normal_axis /= ' ') call gmsh_refuses('normal_axis')
+        if (position /= unset_real) call gmsh_refuses('position')
+        if (dip /= unset_real) call gmsh_refuses('dip')
+        if (dip_axis /= ' ') call gmsh_refuses('dip_axis')
+        if (any(lower /= unset_real)) call gmsh_refuses('lower')
+        if (any(upper /= unset_real)) call gmsh_refuses('upper')
+        normal_axis = 'y'; dip = 0.0_rp; dip_axis = 'x'
+        lower = -huge(1.0_rp); upper = huge(1.0_rp)
+      case default
+        call status%set("read_faults: unknown mesh source '"//trim(source)//"'")
+      end select
+      if (.not. (friction_angle >= 0.0_rp .and. friction_angle < 90.0_rp)) &
+        call d%fail(status, 'fault', k, 'friction_angle', 'must lie in [0, 90) degrees (got '//rtoa(friction_angle)//')')
+      if (.not. (cohesion >= 0.0_rp)) &
+        call d%fail(status, 'fault', k, 'cohesion', 'must not be negative (got '//rtoa(cohesion)//')')
+      if (initial_state /= 'stick' .and. initial_state /= 'open') &
+        call d%fail(status, 'fault', k, 'initial_state', "must be 'stick' or 'open' (got '"//trim(initial_state)//"')")
+      if (.not. status%ok()) return
+      faults(k)%name = name
+      faults(k)%normal_axis = normal_axis
+      faults(k)%position = position
+      faults(k)%dip = dip
+      faults(k)%dip_axis = dip_axis
+      faults(k)%lower = lower
+      faults(k)%upper = upper
+      faults(k)%friction_angle = friction_angle
+      faults(k)%cohesion = cohesion
+      faults(k)%pressure = pressure
+      faults(k)%pressure_history = pressure_history
+      faults(k)%initial_state = initial_state
+      echo = ''
+      write(echo, nml=fault, iostat=ios)
+      call d%echo(log, echo)
+    end do
+  contains
+    subroutine gmsh_refuses(var)
+      character(len=*), intent(in) :: var
+      call d%fail(status, 'fault', k, var, "only for a box mesh: with source = 'gmsh' the mesh file holds the "// &
+                  "fault's geometry")
+    end subroutine gmsh_refuses
+  end subroutine read_faults
+
+  !> Axis index 1..3 of normal_axis.
+  integer function normal_index(self)
+    class(fault_config_t), intent(in) :: self
+    normal_index = index(axes, self%normal_axis)
+  end function normal_index
+
+  !> Axis index 1..3 of dip_axis (its default when left empty).
+  integer function dip_index(self)
+    class(fault_config_t), intent(in) :: self
+    dip_index = index(axes, self%dip_axis)
+    if (self%dip_axis == ' ') dip_index = merge(2, 1, self%normal_axis == 'x')
+  end function dip_index
+
+  !> Multiplier of the fault's pressure at time t [s] (elasticity: the load
+  !> factor): 1 without a history, else the history linearly interpolated.
+  real(rp) function factor(self, t)
+    class(fault_config_t), intent(in) :: self
+    real(rp), intent(in) :: t
+    type(boundary_config_t) :: bc
+    factor = 1.0_rp
+    if (.not. allocated(self%hist_t)) return
+    bc%hist_t = self%hist_t
+    bc%hist_f = self%hist_f
+    factor = bc%factor(t)
+  end function factor
+
+  !> Read the pressure_history files of the faults (rank 0) and broadcast
+  !> them; the format and its checks are those of &boundary's history (the
+  !> reader of boundary_config). Errors name the fault and the file. Collective.
+  subroutine load_fault_histories(comm, faults, status)
+    type(parallel_comm_t), intent(in) :: comm
+    type(fault_config_t), intent(inout) :: faults(:)
+    type(error_status_t), intent(inout) :: status
+    type(boundary_config_t) :: bc(1)
+    integer :: k, p, code
+    character(len=msg_len) :: m
+    do k = 1, size(faults)
+      if (len_trim(faults(k)%pressure_history) == 0) cycle
+      bc(1)%set = faults(k)%name
+      bc(1)%history = faults(k)%pressure_history
+      call load_histories(comm, bc, status)
+      if (.not. status%ok()) then
+        ! the reader names &boundary; name the fault instead
+        m = status%msg
+        code = status%code
+        p = index(m, "': history file")
+        if (p > 0) m = m(p + 3:)
+        call status%set("&fault '"//trim(faults(k)%name)//"': pressure_"//trim(m), code)
+        return
+      end if
+      faults(k)%hist_t = bc(1)%hist_t
+      faults(k)%hist_f = bc(1)%hist_f
+      deallocate(bc(1)%hist_t, bc(1)%hist_f)
+    end do
+  end subroutine load_fault_histories
+end module fault_config

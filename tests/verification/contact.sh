@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# Frictional contact (physics = 'contact') against analytical solutions:
+#  - Sneddon's pressurized crack (input/sneddon.nml): opening within 3 % in the
+#    middle 80 %, and first-order convergence over three core refinements;
+#  - the inclined crack under compression of Phan et al. (input/single_fracture.nml):
+#    slip, t_N and |t_T| within 5 % in the middle 80 %; 1 vs 2 ranks to 1e-8;
+#  - a fault in stick under a homogeneous stress: the intact solution exactly;
+#  - a partly slipping fracture with tips in a block: 1 vs 2 ranks to 1e-8
+#    with the fracture shared by both ranks; the three block preconditioners
+#    (FGMRES) give MUMPS's solution.
+set -u
+cd "$(dirname "$0")/../.."
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+PY=${PYTHON:-/usr/bin/python3}
+out=build/test-out/contact
+rm -rf "$out"; mkdir -p "$out"
+pass=0; fail=0
+ok() { echo "  ok    $1"; pass=$((pass + 1)); }
+ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
+deck() {  # name, source deck, sed expressions
+  local name=$1 src=$2; shift 2
+  sed -e "s#dir = 'out'#dir = '$out'#" -e "s#prefix = '[a-z_]*'#prefix = '$name'#" "$@" "$src" > "$out/$name.nml"
+}
+run() {  # name, ranks
+  if timeout 600 mpirun --oversubscribe -np "$2" bin/geoblock "$out/$1.nml" > "$out/$1.log" 2>&1 < /dev/null; then
+    return 0
+  fi
+  ko "run $1 on $2 rank(s), see $out/$1.log"
+  return 1
+}
+check() {  # label, command...
+  local label=$1 r; shift
+  if r=$("$@" 2>&1); then ok "$label: $(echo "$r" | grep -v '^figure' | tr '\n' ' ')"; else ko "$label: $(echo "$r" | tr '\n' ' ')"; fi
+}
+error_of() {  # run, case, quantity
+  $PY postproc/plot_fracture.py "$out/$1" --case "$2" --png "$out/$1.png" | awk -v q="$3" '$1 == "error" && $2 == q {print $3}'
+}
+
+# Sneddon
+deck sneddon input/sneddon.nml
+run sneddon 2 && check "Sneddon opening (2 ranks, tol 3%)" $PY postproc/plot_fracture.py "$out/sneddon" --case sneddon \
+  --check 0.03 --png "$out/sneddon.png"
+e=()
+for lv in "24 6 80 60" "48 10 110 80" "96 20 180 130"; do
+  set -- $lv
+  deck "sneddon_$1" input/sneddon.nml -e "s#nx = 110, ny = 80#nx = $3, ny = $4#" -e "s#core_n = 48, 10#core_n = $1, $2#"
+  run "sneddon_$1" 2 && e+=("$(error_of "sneddon_$1" sneddon opening)")
+done
+if [ ${#e[@]} -eq 3 ]; then
+  check "Sneddon convergence (order >= 0.8)" $PY tests/verification/check_contact.py orders "${e[@]}" 0.8
+fi
+
+# Phan et al.: inclined crack, all slipping
+deck phan1 input/single_fracture.nml
+deck phan2 input/single_fracture.nml
+run phan1 1 && check "inclined crack slip and tractions (1 rank, tol 5%)" $PY postproc/plot_fracture.py \
+  "$out/phan1" --case phan --check 0.05 --png "$out/phan1.png"
+if run phan2 2; then
+  check "inclined crack (2 ranks, tol 5%)" $PY postproc/plot_fracture.py "$out/phan2" --case phan --check 0.05 \
+    --png "$out/phan2.png"
+  check "inclined crack, 1 vs 2 ranks (1e-8)" $PY tests/verification/check_contact.py same "$out/phan1" "$out/phan2" 1e-8
+fi
+
+# stick = intact
+deck stick tests/decks/contact_stick.nml
+run stick 2 && check "stick fault = intact solution (MUMPS, 2 ranks)" $PY tests/verification/check_contact.py stick "$out/stick"
+deck stick_it tests/decks/contact_stick.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-12#"
+run stick_it 2 && check "stick fault = intact solution (FGMRES reordered, 2 ranks)" $PY \
+  tests/verification/check_contact.py stick "$out/stick_it"
+
+# partly slipping fracture: block preconditioners vs MUMPS
+deck block_mumps tests/decks/contact_block.nml
+deck block_mumps1 tests/decks/contact_block.nml
+if run block_mumps 2 && run block_mumps1 1; then
+  check "the fracture crosses the partition" $PY tests/verification/check_contact.py ranks "$out/block_mumps" 2
+  check "partly slipping fracture, 1 vs 2 ranks (1e-8)" $PY tests/verification/check_contact.py same \
+    "$out/block_mumps1" "$out/block_mumps" 1e-8
+fi
+for blk in reordered classical augmented; do
+  deck "block_$blk" tests/decks/contact_block.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
+  printf "&contact\n  block = '%s'\n/\n" "$blk" >> "$out/block_$blk.nml"
+  run "block_$blk" 2 && check "FGMRES with the $blk preconditioner vs MUMPS (1e-6)" $PY \
+    tests/verification/check_contact.py same "$out/block_mumps" "$out/block_$blk" 1e-6
+done
+grep -q "stick/slip/open [0-9]*/[1-9]" "$out/block_mumps.log" && ok "the block case has slipping elements" || \
+  ko "the block case has no slipping element"
+
+echo "suite contact: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
