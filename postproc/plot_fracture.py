@@ -81,22 +81,16 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, ax = plt.subplots(1, 2, figsize=(10, 4))
-        ax[0].plot(s[order], jump[order, 0], "o", ms=3, label="opening g_N")
-        ax[0].plot(s[order], slip[order], "s", ms=3, label="slip |g_T|")
-        for k in ("opening", "slip"):
-            if k in ref:
-                ax[0].plot(s[order], ref[k][order], "-", label=f"{k}, analytical")
-        ax[0].set_xlabel("s [m]")
-        ax[0].set_ylabel("jump [m]")
-        ax[0].legend()
-        ax[1].plot(s[order], trac[order, 0], "o", ms=3, label="t_N")
-        ax[1].plot(s[order], tt[order], "s", ms=3, label="|t_T|")
-        for k in ("t_N", "t_T"):
-            if k in ref:
-                ax[1].plot(s[order], ref[k][order], "-", label=f"{k}, analytical")
-        ax[1].set_xlabel("s [m]")
-        ax[1].set_ylabel("traction [Pa]")
-        ax[1].legend()
+        panels = [(ax[0], "jump [m]", [("opening g_N", jump[:, 0], "opening"), ("slip |g_T|", slip, "slip")]),
+                  (ax[1], "traction [Pa]", [("t_N", trac[:, 0], "t_N"), ("|t_T|", tt, "t_T")])]
+        for a, ylabel, curves in panels:
+            for (label, values, key), marker in zip(curves, ("o", "s")):
+                a.plot(s[order], values[order], marker, ms=3, label=label)
+                if key in ref:
+                    a.plot(s[order], ref[key][order], "-", label=f"{key}, analytical")
+            a.set_xlabel("s [m]")
+            a.set_ylabel(ylabel)
+            a.legend()
         fig.tight_layout()
         png = args.png or args.run + "_fracture.png"
         fig.savefig(png, dpi=120)

@@ -74,6 +74,7 @@ module contact
     real(rp), allocatable :: area(:), wn(:,:), rot(:,:,:)  !< [m^2], (4,n) nodal areas, (3,3,n) frame rows
     real(rp), allocatable :: s(:)                  !< scale of the open and slip rows [m^3/Pa]
     real(rp), allocatable :: fric(:), coh(:), pres(:)      !< tan(phi), cohesion [Pa], fluid pressure [Pa]
+    integer, allocatable :: fault(:)               !< index of the element's fault in faults(:)
     integer, allocatable :: state(:), state_step(:)
     logical, allocatable :: fresh(:)               !< slip since the last update: direction from t_T
     real(rp), allocatable :: trac(:,:), trac_step(:,:)     !< (3,n) local-frame traction [Pa]
@@ -162,9 +163,10 @@ contains
     call assemble_c1(self, mesh)
 
     ! fault properties and initial state
-    allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%state_step(n))
+    allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%state_step(n), self%fault(n))
     do e = 1, n
       f = fault_index(self, mesh, mesh%iface_fault(e))
+      self%fault(e) = f
       if (f == 0) then
         call status%set("fault '"//trim(mesh%fault_names(mesh%iface_fault(e)))//"' of the mesh has no &fault group")
         return
@@ -425,7 +427,7 @@ contains
     call self%mech%set_time(lf)
     call self%mech%assemble_into(mesh, lf, self%sys%a(self%bu, self%bu), self%f_u)
     do e = 1, mesh%n_ifaces
-      associate (f => self%faults(fault_index(self, mesh, mesh%iface_fault(e))))
+      associate (f => self%faults(self%fault(e)))
         self%pres(e) = lf * f%pressure * f%factor(lf)
       end associate
     end do
@@ -741,7 +743,8 @@ contains
     if (allocated(self%u)) deallocate(self%u, self%u_step)
     if (allocated(self%area)) deallocate(self%area, self%wn, self%rot)
     if (allocated(self%s)) deallocate(self%s)
-    if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, self%state_step, self%fresh)
+    if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, self%state_step, self%fresh, &
+                                                 self%fault)
     if (allocated(self%trac)) deallocate(self%trac, self%trac_step, self%jump, self%jump_step)
     if (allocated(self%edge)) deallocate(self%edge)
     if (allocated(self%eb)) deallocate(self%eb)
