@@ -93,13 +93,15 @@ test: deps
 	$(MAKE) all tests
 	@bash tests/run_tests.sh
 
-# Benchmarks (long: about an hour with MUMPS): elasticity, Mandel with every
-# block preconditioner variant, our aFSAI against hypre's FSAI.
+# Benchmarks (long: more than an hour with MUMPS): elasticity, Mandel with every
+# block preconditioner variant, our aFSAI against hypre's FSAI, frictional
+# contact with every contact preconditioner on 5 levels.
 bench: deps
 	$(MAKE) all
 	@bash bench/run_bench.sh
 	@bash bench/run_bench_biot.sh
 	@bash bench/run_bench_fsai.sh
+	@bash bench/run_bench_contact.sh
 
 clean:
 	rm -rf build bin

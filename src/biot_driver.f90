@@ -30,9 +30,7 @@ module biot_driver
   use poromechanics, only: poromechanics_t, iu, iq, ipr
   use krylov, only: solve_info_t
   use fgmres, only: fgmres_t
-  use cg, only: cg_t
   use precon, only: precon_t
-  use boomeramg_precon, only: boomeramg_precon_t
   use jacobi_precon, only: jacobi_precon_t
   use mumps_solver, only: mumps_solver_t
   use block_precon, only: block_precon_t
@@ -41,6 +39,7 @@ module biot_driver
   use scaled_system, only: scaled_operator_t, scaled_precon_t
   use dist_vector, only: pnorm2, pmax_abs
   use xdmf_writer, only: xdmf_writer_t
+  use elastic_reference, only: solve_elastic_reference
   implicit none
   private
 
@@ -81,6 +80,7 @@ contains
     logical :: setup_done, has_nan
     character(len=msg_len) :: line
     integer :: hist_unit, k, ios
+    integer(ip) :: u0, u1
 
     call timers%start('total')
     call mcfg%read(d, log, status)
@@ -196,8 +196,10 @@ contains
       call agree(comm, status)
       if (.not. status%ok()) call log%fatal(comm, 'step '//itoa(step)//': '//trim(status%msg))
 
-      if (scfg%elastic_reference .and. t_p1 > 0.0_rp .and. scfg%method /= 'mumps') &
-        call elastic_reference(comm, log, phys, bpc%bp, scfg, amg)
+      if (scfg%elastic_reference .and. t_p1 > 0.0_rp .and. scfg%method /= 'mumps') then
+        call phys%sys%block_range(iu, u0, u1)
+        call solve_elastic_reference(comm, log, phys%sys%a(iu, iu), phys%rhs(u0:u1), scfg, amg, bpc%bp%s(iu)%p)
+      end if
 
       ! solve from the previous state
       phys%x = phys%x_old
@@ -257,47 +259,6 @@ contains
     call phys%free()
     call mesh%free()
   end subroutine run_biot
-
-  !> The benchmarks' reference: one CG solve of K u = f (the mechanics block
-  !> and right-hand side of this step) with BoomerAMG (that of the block
-  !> preconditioner when it uses one), to the same tolerance. Logged, not used.
-  subroutine elastic_reference(comm, log, phys, bp, scfg, amg)
-    type(parallel_comm_t), intent(inout) :: comm
-    type(logger_t), intent(inout) :: log
-    type(poromechanics_t), intent(inout) :: phys
-    type(block_precon_t), intent(inout) :: bp
-    type(solver_config_t), intent(in) :: scfg
-    type(amg_params_t), intent(in) :: amg
-    type(cg_t) :: solver
-    type(solve_info_t) :: info
-    type(boomeramg_precon_t) :: own
-    type(error_status_t) :: status
-    real(rp), allocatable :: x(:), b(:)
-    real(rp) :: t_setup
-    integer(ip) :: u0, u1
-    character(len=msg_len) :: line
-    call phys%sys%block_range(iu, u0, u1)
-    b = phys%rhs(u0:u1)
-    if (pnorm2(comm, b) == 0.0_rp) b = 1.0_rp
-    allocate(x(size(b)))
-    x = 0.0_rp
-    call solver%init(comm, scfg%rtol, 0.0_rp, scfg%max_iter)
-    select type (m => bp%s(iu)%p)
-    type is (boomeramg_precon_t)
-      call solver%solve(phys%sys%a(iu, iu), m, b, x, info)
-      t_setup = m%setup_time
-    class default
-      call own%setup(phys%sys%a(iu, iu), amg, status)
-      if (.not. status%ok()) call log%fatal(comm, 'elastic reference: '//trim(status%msg))
-      call solver%solve(phys%sys%a(iu, iu), own, b, x, info)
-      t_setup = own%setup_time
-      call own%free()
-    end select
-    write(line, '(a,i0,a,es9.2,a,f8.3,a,f8.3,a)') 'elastic reference (CG + BoomerAMG on K): iterations ', &
-      info%iterations, ', rel. residual ', info%rel_res, ', AMG setup ', t_setup, ' s, solve ', &
-      info%solve_time, ' s'
-    call log%info(line)
-  end subroutine elastic_reference
 
   !> Scaling of the rows and columns of the block system: 1/sqrt of the
   !> diagonal of K and A, and of the Schur approximation s for the pressure

@@ -34,6 +34,7 @@ module contact_driver
   use field_output, only: field_output_t
   use fracture_output, only: fracture_output_t
   use dist_vector, only: pnorm2
+  use elastic_reference, only: solve_elastic_reference
   implicit none
   private
 
@@ -51,7 +52,8 @@ module contact_driver
     type(mumps_solver_t) :: direct
     type(csr_matrix_t) :: mono
     type(index_map_t) :: mono_map
-    integer :: linear_its = 0, solves = 0
+    integer :: linear_its = 0
+    logical :: reference_done = .false.    !< the elastic reference solve was made
     real(rp) :: t_setup = 0.0_rp, t_solve = 0.0_rp
   end type contact_solver_t
 
@@ -142,6 +144,8 @@ contains
       cuts = 0
       total_its = 0
       total_lin = 0
+      ls%t_setup = 0.0_rp
+      ls%t_solve = 0.0_rp
       do while (lf_done < lf_target * (1.0_rp - 1.0e-12_rp))
         lf = min(lf_done + dl, lf_target)
         call load_step(phys, mesh, ls, log, lf, converged, newton_its, why)
@@ -204,7 +208,9 @@ contains
     type(error_status_t) :: status
     type(solve_info_t) :: info
     real(rp), allocatable :: dx(:), dsc(:)
-    real(rp) :: du, dt, tp0
+    real(rp) :: du, dt, tp0, b_norm, b_first
+    !> floor of the linear tolerance, relative to rtol times the first residual
+    real(rp), parameter :: floor_factor = 1.0e-4_rp
     integer(gp) :: changed, n(3)
     integer(ip) :: u0, u1, t0, t1
     logical :: has_nan
@@ -213,9 +219,8 @@ contains
     comm = mesh%comm
     converged = .false.
     why = ''
+    b_first = 0.0_rp
     ls%linear_its = 0
-    ls%t_setup = 0.0_rp
-    ls%t_solve = 0.0_rp
     call phys%begin_step(lf)
     call phys%assemble_stiffness(mesh, lf)
     call phys%take_solution(mesh)
@@ -249,6 +254,17 @@ contains
         call ls%sop%init(phys%sys, dsc)
         call ls%spc%init(ls%cpc%bp, dsc)
         ls%t_setup = ls%t_setup + (wall_time() - tp0)
+        if (ls%scfg%elastic_reference .and. .not. ls%reference_done) then
+          call solve_elastic_reference(comm, log, phys%sys%a(phys%bu, phys%bu), phys%rhs(u0:u1), ls%scfg, ls%amg)
+          ls%reference_done = .true.
+        end if
+        ! The tolerance is relative to this iteration's residual, with a floor
+        ! relative to the first one of the load step: the last Newton
+        ! iterations have residuals near round-off, where rtol alone would ask
+        ! FGMRES for digits that do not exist (it would stagnate).
+        b_norm = pnorm2(comm, dsc * phys%rhs)
+        if (its == 1) b_first = b_norm
+        ls%krylov%atol = max(ls%scfg%atol, floor_factor * ls%scfg%rtol * b_first)
         call ls%krylov%solve(ls%sop, ls%spc, dsc * phys%rhs, dx, info)
         dx = dsc * dx
         ls%t_solve = ls%t_solve + info%solve_time

@@ -14,8 +14,9 @@
 !>             in G, one AMG cycle of K per iteration), 'lower' (S^-1 G),
 !>             'upper' (F S^-1) or 'diagonal' (S^-1)      ['ldu_cheap'; explicit: 'ldu']
 !>   k_precon  biot: preconditioner of K: 'boomeramg' or 'afsai' (&afsai) ['boomeramg']
-!>   elastic_reference  biot: also solve K u = f once with CG and the same
-!>             BoomerAMG (the reference cost of the benchmarks)          [.false.]
+!>   elastic_reference  biot, contact (iterative): also solve K u = f once
+!>             with CG and BoomerAMG (the reference cost of the benchmarks;
+!>             contact: at the first Newton iteration)                   [.false.]
 !>   schur     biot: the pressure Schur complement: 'fixed_stress' (b^2 |c| /
 !>             K_dr per cell for Q^T K^-1 Q) or 'algebraic' (Q^T diag(K)^-1 Q),
 !>             both with the scaled Laplacian for B^T A^-1 B; or 'explicit'
