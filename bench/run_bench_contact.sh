@@ -16,14 +16,16 @@
 # mesh, same tolerance; it uses the same &amg) and MUMPS on the same problem.
 # reordered_strong_amg is the reordered preconditioner with a stronger
 # BoomerAMG (&amg agg_num_levels = 0, num_sweeps = 2; the elastic reference
-# then uses it too), to separate the AMG's own growth from the contact's.
+# then uses it too), to separate the AMG's own growth from the contact's;
+# reordered_inner_cg solves S* by CG + BoomerAMG to 1e-10 (schur_solve =
+# 'inner_cg'), which shows the growth of the Schur approximation alone.
 # Usage: bench/run_bench_contact.sh [levels] [ranks] [precons] [mixes] [mumps levels]
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 levels=${1:-"8 16 24 32 40"}
 np=${2:-2}
-precons=${3:-"reordered reordered_strong_amg classical augmented"}
+precons=${3:-"reordered reordered_strong_amg reordered_inner_cg classical augmented"}
 mixes=${4:-"stick slip open"}
 mumps_levels=${5:-"8 16 24 32 40"}
 out=build/bench
@@ -46,6 +48,9 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
                contact="block = 'augmented', stabilization = 'none'" ;;
     reordered_strong_amg)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."; contact="block = 'reordered'" ;;
+    reordered_inner_cg)
+               solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
+               contact="block = 'reordered', schur_solve = 'inner_cg'" ;;
     *)         solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."; contact="block = '$s'" ;;
   esac
   local name=contact_${n}_${mix}_${s}

@@ -21,6 +21,7 @@ module boundary_config
   use error_status, only: error_status_t
   use logger, only: logger_t
   use deck, only: deck_t, line_len, echo_len, unset_real
+  use history_file, only: read_history, history_factor
   implicit none
   private
 
@@ -110,94 +111,26 @@ contains
   real(rp) function factor(self, t)
     class(boundary_config_t), intent(in) :: self
     real(rp), intent(in) :: t
-    integer :: i, n
     factor = 1.0_rp
-    if (.not. allocated(self%hist_t)) return
-    n = size(self%hist_t)
-    if (t <= self%hist_t(1)) then
-      factor = self%hist_f(1)
-    else if (t >= self%hist_t(n)) then
-      factor = self%hist_f(n)
-    else
-      do i = 1, n - 1
-        if (t <= self%hist_t(i+1)) then
-          factor = self%hist_f(i) + (self%hist_f(i+1) - self%hist_f(i)) * (t - self%hist_t(i)) / &
-                   (self%hist_t(i+1) - self%hist_t(i))
-          return
-        end if
-      end do
-    end if
+    if (allocated(self%hist_t)) factor = history_factor(self%hist_t, self%hist_f, t)
   end function factor
 
   !> Read the history files of the conditions (rank 0) and broadcast them.
-  !> Errors name the file and the line. Collective.
+  !> Errors name the condition, the file and the line. Collective.
   subroutine load_histories(comm, bcs, status)
     type(parallel_comm_t), intent(in) :: comm
     type(boundary_config_t), intent(inout) :: bcs(:)
     type(error_status_t), intent(inout) :: status
-    integer :: k, n, u, ios, line, code
-    real(rp) :: row(2)
-    real(rp), allocatable :: t(:), f(:)
-    character(len=512) :: buf
+    integer :: k
     character(len=msg_len) :: msg
     do k = 1, size(bcs)
       if (len_trim(bcs(k)%history) == 0) cycle
-      n = 0
-      msg = ''
-      if (comm%is_root()) then
-        allocate(t(1024), f(1024))
-        open(newunit=u, file=trim(bcs(k)%history), status='old', action='read', iostat=ios, iomsg=msg)
-        if (ios == 0) then
-          line = 0
-          do
-            read(u, '(a)', iostat=ios) buf
-            if (ios /= 0) exit
-            line = line + 1
-            buf = adjustl(buf)
-            if (len_trim(buf) == 0 .or. buf(1:1) == '#') cycle
-            read(buf, *, iostat=ios) row
-            if (ios /= 0) then
-              write(msg, '(a,i0,a)') 'line ', line, ': expected two numbers "time factor"'
-              exit
-            end if
-            if (n > 0) then
-              if (row(1) <= t(n)) then
-                write(msg, '(a,i0,a)') 'line ', line, ': times must increase'
-                ios = 1
-                exit
-              end if
-            end if
-            if (n == size(t)) then
-              t = [t, t]
-              f = [f, f]
-            end if
-            n = n + 1
-            t(n) = row(1)
-            f(n) = row(2)
-          end do
-          close(u)
-          if (ios < 0) ios = 0
-          if (ios == 0 .and. n == 0) then
-            msg = 'no rows'
-            ios = 1
-          end if
-        end if
-        if (ios /= 0) n = -1
-      end if
-      call comm%bcast(n)
-      if (n < 0) then
-        call comm%bcast(msg)
-        code = 1
+      call read_history(comm, bcs(k)%history, bcs(k)%hist_t, bcs(k)%hist_f, msg)
+      if (len_trim(msg) > 0) then
         call status%set("&boundary on set '"//trim(bcs(k)%set)//"': history file '"//trim(bcs(k)%history)// &
-                        "': "//trim(msg), code)
+                        "': "//trim(msg), 1)
         return
       end if
-      if (.not. comm%is_root()) allocate(t(n), f(n))
-      bcs(k)%hist_t = t(1:n)
-      bcs(k)%hist_f = f(1:n)
-      call comm%bcast(bcs(k)%hist_t)
-      call comm%bcast(bcs(k)%hist_f)
-      if (allocated(t)) deallocate(t, f)
     end do
   end subroutine load_histories
 end module boundary_config

@@ -12,6 +12,10 @@
 !>                  diagonal, whatever H_t is)                        ['reordered']
 !>   schur_precon   classical: 'boomeramg' or 'jacobi' for -S        ['boomeramg']
 !>   aug_scale      scale of the regular diagonal H~ (and D), > 0          [1]
+!>   schur_solve    reordered, augmented: how S* is applied: 'vcycle' (one
+!>                  BoomerAMG V-cycle) or 'inner_cg' (CG + BoomerAMG to 1e-10,
+!>                  a near-exact solve: a diagnostic that separates the Schur
+!>                  approximation from the AMG; slow)                 ['vcycle']
 !>   max_newton     Newton / active-set iterations per load step, >= 1     [30]
 !>   newton_tol     relative size of the last Newton update of u and t, > 0 [1e-6]
 !>   status_tol     relative tolerance of the status checks (tractions against
@@ -34,6 +38,7 @@ module contact_config
     character(len=name_len) :: block = 'reordered'
     character(len=name_len) :: schur_precon = 'boomeramg'
     real(rp) :: aug_scale = 1.0_rp
+    character(len=name_len) :: schur_solve = 'vcycle'
     integer :: max_newton = 30
     real(rp) :: newton_tol = 1.0e-6_rp
     real(rp) :: status_tol = 1.0e-6_rp
@@ -50,16 +55,17 @@ contains
     type(deck_t), intent(in) :: d
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
-    character(len=name_len) :: stabilization, block, schur_precon
+    character(len=name_len) :: stabilization, block, schur_precon, schur_solve
     real(rp) :: aug_scale, newton_tol, status_tol
     integer :: max_newton, max_cuts, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(12)
-    namelist /contact/ stabilization, block, schur_precon, aug_scale, max_newton, newton_tol, status_tol, max_cuts
+    character(len=echo_len) :: echo(16)
+    namelist /contact/ stabilization, block, schur_precon, aug_scale, schur_solve, max_newton, newton_tol, &
+                       status_tol, max_cuts
 
     stabilization = self%stabilization; block = self%block; schur_precon = self%schur_precon
-    aug_scale = self%aug_scale; max_newton = self%max_newton; newton_tol = self%newton_tol
+    aug_scale = self%aug_scale; schur_solve = self%schur_solve; max_newton = self%max_newton; newton_tol = self%newton_tol
     status_tol = self%status_tol; max_cuts = self%max_cuts
     if (d%count('contact') > 0) then
       call d%block('contact', 1, b)
@@ -75,6 +81,10 @@ contains
       'contact', 1, 'block', "must be 'reordered', 'classical' or 'augmented' (got '"//trim(block)//"')")
     if (schur_precon /= 'boomeramg' .and. schur_precon /= 'jacobi') call d%fail(status, 'contact', 1, &
       'schur_precon', "must be 'boomeramg' or 'jacobi' (got '"//trim(schur_precon)//"')")
+    if (schur_solve /= 'vcycle' .and. schur_solve /= 'inner_cg') call d%fail(status, 'contact', 1, &
+      'schur_solve', "must be 'vcycle' or 'inner_cg' (got '"//trim(schur_solve)//"')")
+    if (schur_solve == 'inner_cg' .and. block == 'classical') call d%fail(status, 'contact', 1, 'schur_solve', &
+      "'inner_cg' applies to S* of block = 'reordered' or 'augmented', not to 'classical'")
     if (.not. (aug_scale > 0.0_rp)) call d%fail(status, 'contact', 1, 'aug_scale', &
       'must be > 0 (got '//rtoa(aug_scale)//')')
     if (max_newton < 1) call d%fail(status, 'contact', 1, 'max_newton', 'must be >= 1 (got '//itoa(max_newton)//')')
@@ -85,7 +95,7 @@ contains
     if (max_cuts < 0) call d%fail(status, 'contact', 1, 'max_cuts', 'must be >= 0 (got '//itoa(max_cuts)//')')
     if (.not. status%ok()) return
     self%stabilization = stabilization; self%block = block; self%schur_precon = schur_precon
-    self%aug_scale = aug_scale; self%max_newton = max_newton; self%newton_tol = newton_tol
+    self%aug_scale = aug_scale; self%schur_solve = schur_solve; self%max_newton = max_newton; self%newton_tol = newton_tol
     self%status_tol = status_tol; self%max_cuts = max_cuts
     echo = ''
     write(echo, nml=contact, iostat=ios)

@@ -5,11 +5,13 @@
 !>   classical  (u first)  upper block triangular with S_1 = BoomerAMG(K) and
 !>              the explicit Schur complement S = J_tt - C2 diag(K)^-1 C1,
 !>              preconditioned by BoomerAMG or Jacobi of -S;
-!>   reordered  (t first)  LDU of A* = [-H~ C2; C1 K] with H~ the regular
-!>              diagonal of H_t (contact%ht_diagonal): S_1 = -H~ (exact),
-!>              S_2 = BoomerAMG(S*), S* = K + C1 H~^-1 C2, a stiffness-like
-!>              matrix on which elasticity AMG works; the factors are implicit
-!>              (C2 and C1 times S_1^-1), so A*^-1 is applied up to the AMG;
+!>   reordered  (t first)  LDU of A* = [-H~ C2; C1 K] with H~ a regular
+!>              diagonal that dominates H_t (contact%ht_diagonal): S_1 = -H~
+!>              (exact), S_2 = BoomerAMG(S*), S* = K + C1 H~^-1 C2, a
+!>              stiffness-like matrix on which elasticity AMG works; the
+!>              factors are implicit (C2 and C1 times S_1^-1), so A*^-1 is
+!>              applied up to the AMG (schur_solve = 'inner_cg': up to an
+!>              inner CG to 1e-10, the diagnostic of an exact S*);
 !>   augmented  the same with H~ = D, the augmentation diagonal (the row
 !>              scales s of contact), for the unstabilized saddle point.
 !>
@@ -27,6 +29,7 @@ module contact_precon
   use boomeramg_precon, only: boomeramg_precon_t
   use jacobi_precon, only: jacobi_precon_t
   use negated_precon, only: negated_precon_t
+  use inner_cg_precon, only: inner_cg_precon_t
   use block_precon, only: block_precon_t
   use dist_mesh, only: dist_mesh_t
   use contact, only: contact_t
@@ -55,7 +58,7 @@ contains
   !> current Jacobian of phys. amg: elasticity settings (for K and S*).
   !> Collective.
   subroutine setup(self, phys, mesh, ccfg, amg, status)
-    class(contact_precon_t), intent(inout) :: self
+    class(contact_precon_t), intent(inout), target :: self
     type(contact_t), intent(inout), target :: phys
     type(dist_mesh_t), intent(in) :: mesh
     type(contact_config_t), intent(in) :: ccfg
@@ -132,7 +135,7 @@ contains
 
   !> S_1 = -H~ and S_2 = BoomerAMG(K + C1 H~^-1 C2).
   subroutine reordered_schur(self, phys, mesh, ccfg, amg, status)
-    type(contact_precon_t), intent(inout) :: self
+    type(contact_precon_t), intent(inout), target :: self
     type(contact_t), intent(inout), target :: phys
     type(dist_mesh_t), intent(in) :: mesh
     type(contact_config_t), intent(in) :: ccfg
@@ -140,8 +143,11 @@ contains
     type(error_status_t), intent(inout) :: status
     type(global_csr_t) :: gc2, prod, sstar
     real(rp), allocatable :: h(:)
-    class(precon_t), allocatable :: p
+    class(precon_t), allocatable :: p, w
     integer(ip) :: i, k
+    !> tolerance and cap of the inner CG of schur_solve = 'inner_cg'
+    real(rp), parameter :: inner_rtol = 1.0e-10_rp
+    integer, parameter :: inner_max_iter = 500
     allocate(h(phys%t%n_owned()))
     call phys%ht_diagonal(mesh, ccfg%aug_scale, ccfg%block == 'reordered', h)
     allocate(jacobi_precon_t :: p)
@@ -167,6 +173,14 @@ contains
       call p%setup(self%s, amg, status)
     end select
     if (.not. status%ok()) return
+    if (ccfg%schur_solve == 'inner_cg') then
+      allocate(inner_cg_precon_t :: w)
+      select type (w)
+      type is (inner_cg_precon_t)
+        call w%init(self%s, p, inner_rtol, inner_max_iter, status)
+      end select
+      call move_alloc(w, p)
+    end if
     call replace(self%bp%s(phys%bu)%p, p)
   end subroutine reordered_schur
 

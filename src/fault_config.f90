@@ -31,7 +31,7 @@ module fault_config
   use logger, only: logger_t
   use deck, only: deck_t, line_len, echo_len, unset_real
   use strings, only: rtoa
-  use boundary_config, only: boundary_config_t, load_histories
+  use history_file, only: read_history, history_factor
   implicit none
   private
 
@@ -194,41 +194,27 @@ contains
   real(rp) function factor(self, t)
     class(fault_config_t), intent(in) :: self
     real(rp), intent(in) :: t
-    type(boundary_config_t) :: bc
     factor = 1.0_rp
-    if (.not. allocated(self%hist_t)) return
-    bc%hist_t = self%hist_t
-    bc%hist_f = self%hist_f
-    factor = bc%factor(t)
+    if (allocated(self%hist_t)) factor = history_factor(self%hist_t, self%hist_f, t)
   end function factor
 
   !> Read the pressure_history files of the faults (rank 0) and broadcast
-  !> them; the format and its checks are those of &boundary's history (the
-  !> reader of boundary_config). Errors name the fault and the file. Collective.
+  !> them (format of module history_file). Errors name the fault, the file
+  !> and the line. Collective.
   subroutine load_fault_histories(comm, faults, status)
     type(parallel_comm_t), intent(in) :: comm
     type(fault_config_t), intent(inout) :: faults(:)
     type(error_status_t), intent(inout) :: status
-    type(boundary_config_t) :: bc(1)
-    integer :: k, p, code
-    character(len=msg_len) :: m
+    integer :: k
+    character(len=msg_len) :: msg
     do k = 1, size(faults)
       if (len_trim(faults(k)%pressure_history) == 0) cycle
-      bc(1)%set = faults(k)%name
-      bc(1)%history = faults(k)%pressure_history
-      call load_histories(comm, bc, status)
-      if (.not. status%ok()) then
-        ! the reader names &boundary; name the fault instead
-        m = status%msg
-        code = status%code
-        p = index(m, "': history file")
-        if (p > 0) m = m(p + 3:)
-        call status%set("&fault '"//trim(faults(k)%name)//"': pressure_"//trim(m), code)
+      call read_history(comm, faults(k)%pressure_history, faults(k)%hist_t, faults(k)%hist_f, msg)
+      if (len_trim(msg) > 0) then
+        call status%set("&fault '"//trim(faults(k)%name)//"': pressure_history file '"// &
+                        trim(faults(k)%pressure_history)//"': "//trim(msg), 1)
         return
       end if
-      faults(k)%hist_t = bc(1)%hist_t
-      faults(k)%hist_f = bc(1)%hist_f
-      deallocate(bc(1)%hist_t, bc(1)%hist_f)
     end do
   end subroutine load_fault_histories
 end module fault_config

@@ -82,6 +82,17 @@ for blk in reordered classical augmented; do
   run "block_$blk" 2 && check "FGMRES with the $blk preconditioner vs MUMPS (1e-6)" $PY \
     tests/verification/check_contact.py same "$out/block_mumps" "$out/block_$blk" 1e-6
 done
+# S* solved by an inner CG: the same answer in fewer outer iterations
+deck block_inner tests/decks/contact_block.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
+printf "&contact\n  block = 'reordered', schur_solve = 'inner_cg'\n/\n" >> "$out/block_inner.nml"
+if run block_inner 2; then
+  check "reordered with S* solved by inner CG vs MUMPS (1e-6)" $PY tests/verification/check_contact.py same \
+    "$out/block_mumps" "$out/block_inner" 1e-6
+  lin() { grep '^load step' "$out/$1.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | awk '{s += $1} END {print s + 0}'; }
+  a=$(lin block_inner); b=$(lin block_reordered)
+  if [ "$a" -gt 0 ] && [ "$a" -lt "$b" ]; then ok "inner CG on S* takes fewer FGMRES iterations: $a < $b"
+  else ko "inner CG on S*: $a FGMRES iterations, one V-cycle: $b"; fi
+fi
 grep -q "stick/slip/open [0-9]*/[1-9]" "$out/block_mumps.log" && ok "the block case has slipping elements" || \
   ko "the block case has no slipping element"
 

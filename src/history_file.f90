@@ -1,0 +1,105 @@
+!> Load histories: two-column text files "time factor" (lines starting with
+!> '#' and blank lines are skipped, times strictly increasing) that scale a
+!> boundary condition (&boundary history) or a fault pressure (&fault
+!> pressure_history) in time, linearly between the rows and constant
+!> outside them.
+module history_file
+  use kinds, only: rp, msg_len
+  use parallel_comm, only: parallel_comm_t
+  implicit none
+  private
+
+  public :: read_history, history_factor
+
+contains
+
+  !> Read the history file path on rank 0 and broadcast it into hist_t and
+  !> hist_f. On failure msg says what is wrong (with the line) and the arrays
+  !> are not allocated; msg is blank on success. Collective.
+  subroutine read_history(comm, path, hist_t, hist_f, msg)
+    type(parallel_comm_t), intent(in) :: comm
+    character(len=*), intent(in) :: path
+    real(rp), allocatable, intent(out) :: hist_t(:), hist_f(:)
+    character(len=msg_len), intent(out) :: msg
+    integer :: n, u, ios, line
+    real(rp) :: row(2)
+    real(rp), allocatable :: t(:), f(:)
+    character(len=512) :: buf
+    n = 0
+    msg = ''
+    if (comm%is_root()) then
+      allocate(t(1024), f(1024))
+      open(newunit=u, file=trim(path), status='old', action='read', iostat=ios, iomsg=msg)
+      if (ios == 0) then
+        line = 0
+        do
+          read(u, '(a)', iostat=ios) buf
+          if (ios /= 0) exit
+          line = line + 1
+          buf = adjustl(buf)
+          if (len_trim(buf) == 0 .or. buf(1:1) == '#') cycle
+          read(buf, *, iostat=ios) row
+          if (ios /= 0) then
+            write(msg, '(a,i0,a)') 'line ', line, ': expected two numbers "time factor"'
+            exit
+          end if
+          if (n > 0) then
+            if (row(1) <= t(n)) then
+              write(msg, '(a,i0,a)') 'line ', line, ': times must increase'
+              ios = 1
+              exit
+            end if
+          end if
+          if (n == size(t)) then
+            t = [t, t]
+            f = [f, f]
+          end if
+          n = n + 1
+          t(n) = row(1)
+          f(n) = row(2)
+        end do
+        close(u)
+        if (ios < 0) ios = 0
+        if (ios == 0 .and. n == 0) then
+          msg = 'no rows'
+          ios = 1
+        end if
+      end if
+      if (ios /= 0) n = -1
+    end if
+    call comm%bcast(n)
+    if (n < 0) then
+      call comm%bcast(msg)
+      return
+    end if
+    allocate(hist_t(n), hist_f(n))
+    if (comm%is_root()) then
+      hist_t = t(1:n)
+      hist_f = f(1:n)
+    end if
+    call comm%bcast(hist_t)
+    call comm%bcast(hist_f)
+  end subroutine read_history
+
+  !> The factor of the history (hist_t, hist_f) at time t: linear between the
+  !> rows, the first / last value before / after them.
+  pure real(rp) function history_factor(hist_t, hist_f, t) result(factor)
+    real(rp), intent(in) :: hist_t(:), hist_f(:)
+    real(rp), intent(in) :: t
+    integer :: i, n
+    n = size(hist_t)
+    if (t <= hist_t(1)) then
+      factor = hist_f(1)
+    else if (t >= hist_t(n)) then
+      factor = hist_f(n)
+    else
+      factor = hist_f(n)
+      do i = 1, n - 1
+        if (t <= hist_t(i+1)) then
+          factor = hist_f(i) + (hist_f(i+1) - hist_f(i)) * (t - hist_t(i)) / (hist_t(i+1) - hist_t(i))
+          return
+        end if
+      end do
+    end if
+  end function history_factor
+end module history_file
