@@ -80,7 +80,7 @@ contains
     real(rp) :: lf, lf_done, lf_target, dl
     integer :: step, cuts, newton_its, total_its, total_lin, c
     integer(gp) :: n(3)
-    logical :: converged, free_comp(3)
+    logical :: converged
     character(len=msg_len) :: line, why
 
     call timers%start('total')
@@ -114,12 +114,8 @@ contains
                    ls%scfg%method /= 'mumps' .and. ls%ccfg%block /= 'classical', status)
     call agree(comm, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
-    do c = 1, 3
-      free_comp(c) = .not. comm%any_true(any(phys%mech%fixed(c::3)))
-    end do
-    if (any(free_comp)) call log%fatal(comm, 'no displacement condition prescribes u'// &
-      trim(merge('x', merge('y', 'z', free_comp(2)), free_comp(1)))// &
-      ' anywhere: the solid can move as a rigid body (add a &boundary with type = ''displacement'')')
+    call phys%mech%check_anchored(comm, status)
+    if (.not. status%ok()) call log%fatal(comm, status%msg)
     call log%info('unknowns: u '//itoa(int(phys%mech%u%map%n_global))//', t '//itoa(int(phys%t%map%n_global))// &
       ' ('//itoa(int(mesh%iface_map%n_global))//' interface elements, '//itoa(int(comm%sum(phys%n_edges)))// &
       ' stabilization edge entries)')
@@ -207,8 +203,8 @@ contains
     type(parallel_comm_t) :: comm
     type(error_status_t) :: status
     type(solve_info_t) :: info
-    real(rp), allocatable :: dx(:), dsc(:)
-    real(rp) :: du, dt, tp0, b_norm, b_first
+    real(rp), allocatable :: dx(:), dsc(:), bs(:)
+    real(rp) :: du, dt, tp0, b_first
     !> floor of the linear tolerance, relative to rtol times the first residual
     real(rp), parameter :: floor_factor = 1.0e-4_rp
     integer(gp) :: changed, n(3)
@@ -226,7 +222,7 @@ contains
     call phys%take_solution(mesh)
     call phys%sys%block_range(phys%bu, u0, u1)
     call phys%sys%block_range(phys%bt, t0, t1)
-    allocate(dx(size(phys%x)))
+    allocate(dx(size(phys%x)), bs(size(phys%x)))
     do its = 1, ls%ccfg%max_newton
       call phys%assemble_newton(mesh)
       dx = 0.0_rp
@@ -262,10 +258,10 @@ contains
         ! relative to the first one of the load step: the last Newton
         ! iterations have residuals near round-off, where rtol alone would ask
         ! FGMRES for digits that do not exist (it would stagnate).
-        b_norm = pnorm2(comm, dsc * phys%rhs)
-        if (its == 1) b_first = b_norm
+        bs = dsc * phys%rhs
+        if (its == 1) b_first = pnorm2(comm, bs)
         ls%krylov%atol = max(ls%scfg%atol, floor_factor * ls%scfg%rtol * b_first)
-        call ls%krylov%solve(ls%sop, ls%spc, dsc * phys%rhs, dx, info)
+        call ls%krylov%solve(ls%sop, ls%spc, bs, dx, info)
         dx = dsc * dx
         ls%t_solve = ls%t_solve + info%solve_time
         ls%linear_its = ls%linear_its + info%iterations

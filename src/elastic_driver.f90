@@ -54,7 +54,7 @@ contains
     real(rp), allocatable :: x(:), u_loc(:), stress(:,:)
     real(rp) :: lf, t_setup, t_asm
     integer :: step, c
-    logical :: free_comp(3), has_nan
+    logical :: has_nan
     character(len=msg_len) :: line
     character(len=path_len) :: mm
 
@@ -82,13 +82,8 @@ contains
     call phys%init(mesh, mats, bcs, status)
     call agree(comm, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
-    ! a solid free to translate in some direction has a singular stiffness
-    do c = 1, 3
-      free_comp(c) = .not. comm%any_true(any(phys%fixed(c::3)))
-    end do
-    if (any(free_comp)) call log%fatal(comm, 'no displacement condition prescribes u'// &
-      trim(merge('x', merge('y', 'z', free_comp(2)), free_comp(1)))// &
-      ' anywhere: the solid can move as a rigid body (add a &boundary with type = ''displacement'')')
+    call phys%check_anchored(comm, status)
+    if (.not. status%ok()) call log%fatal(comm, status%msg)
     call log%info('displacement dofs: '//itoa(int(phys%u%map%n_global))//', matrix non-zeros: '// &
                   itoa(int(phys%k%global_nnz())))
 

@@ -46,6 +46,7 @@ module elasticity
     procedure :: cell_stress
     procedure :: set_time
     procedure :: prescribed_value
+    procedure :: check_anchored
     procedure :: free
   end type elasticity_t
 
@@ -355,6 +356,23 @@ contains
       stress(:, c) = [sig(1,1), sig(1,2), sig(1,3), sig(2,2), sig(2,3), sig(3,3)]
     end do
   end subroutine cell_stress
+
+  !> Set status when a displacement component is prescribed nowhere: the
+  !> solid could then translate as a rigid body and K would be singular.
+  !> Collective; every rank gets the same status.
+  subroutine check_anchored(self, comm, status)
+    class(elasticity_t), intent(in) :: self
+    type(parallel_comm_t), intent(inout) :: comm
+    type(error_status_t), intent(inout) :: status
+    logical :: free_comp(3)
+    integer :: c
+    do c = 1, 3
+      free_comp(c) = .not. comm%any_true(any(self%fixed(c::3)))
+    end do
+    if (any(free_comp)) call status%set('no displacement condition prescribes u'// &
+      trim(merge('x', merge('y', 'z', free_comp(2)), free_comp(1)))// &
+      ' anywhere: the solid can move as a rigid body (add a &boundary with type = ''displacement'')', 1)
+  end subroutine check_anchored
 
   subroutine free(self)
     class(elasticity_t), intent(inout) :: self
