@@ -29,10 +29,12 @@ INC := -I$(HDF5_INC) -I/usr/include -J$(MDIR) -I$(MDIR)
 LIBS := -L$(HDF5_LIB) -lhdf5_fortran -lhdf5 -lHYPRE -ldmumps -lmumps_common -lpord \
         -lscalapack-openmpi -lmetis -llapack -lblas
 
-LIB_SRC := $(sort $(wildcard modules/*/*.f90) $(filter-out src/geoblock.f90,$(wildcard src/*.f90 src/*/*.f90)))
-TEST_COMMON := $(wildcard tests/common/*.f90)
-TEST_SRC := $(sort $(wildcard tests/unit/test_*.f90 tests/verification/test_*.f90 tests/invariance/test_*.f90))
-MAIN_SRC := src/geoblock.f90
+# Sources are found in the tree (modules/<layer>, src/<layer>, tests/...):
+# no hand-kept file list. File names are unique across the tree.
+MAIN_SRC := src/drivers/geoblock.f90
+LIB_SRC := $(sort $(filter-out $(MAIN_SRC),$(shell find modules src -name '*.f90')))
+TEST_COMMON := $(sort $(shell find tests/common -name '*.f90'))
+TEST_SRC := $(sort $(shell find tests -name 'test_*.f90'))
 ALL_SRC := $(LIB_SRC) $(TEST_COMMON) $(TEST_SRC) $(MAIN_SRC)
 
 obj = $(addprefix $(ODIR)/,$(notdir $(1:.f90=.o)))

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Run every suite listed in tests/suites.txt and end with "N passed, N failed".
 # A line is "<ranks> <program> [args]" for a test program in bin/tests, or
-# "script <path>" for a shell suite. Each suite prints "suite NAME: N passed, N failed";
+# "script <path>" for a shell (.sh) or Python (.py) suite. Each suite prints "suite NAME: N passed, N failed";
 # a suite that crashes or hangs (timeout) counts as one failure.
 set -u
 cd "$(dirname "$0")/.."
@@ -15,9 +15,12 @@ while read -r np prog args; do
   [ -z "${np:-}" ] && continue
   case "$np" in \#*) continue ;; esac
   if [ "$np" = "script" ]; then
-    name=$(basename "$prog" .sh)
+    name=$(basename "$prog"); name=${name%.*}
     log="$logdir/$name.log"
-    timeout 900 bash "$prog" $args > "$log" 2>&1 < /dev/null
+    case "$prog" in
+      *.py) timeout 900 "${PYTHON:-/usr/bin/python3}" "$prog" $args > "$log" 2>&1 < /dev/null ;;
+      *) timeout 900 bash "$prog" $args > "$log" 2>&1 < /dev/null ;;
+    esac
     rc=$?
   else
     name="$prog-np$np"

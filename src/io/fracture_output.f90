@@ -14,7 +14,6 @@ module fracture_output
   use error_status, only: error_status_t
   use dist_mesh, only: dist_mesh_t
   use field_output, only: field_output_t
-  use contact, only: contact_t
   implicit none
   private
 
@@ -52,26 +51,30 @@ contains
                              mesh%iface_map%first, conn, status, self%grid)
   end subroutine init
 
-  !> The fault fields of the open step of out. Collective.
-  subroutine write_step(self, out, mesh, phys, status)
+  !> The fault fields of the open step of out, from the local arrays of the
+  !> interface elements (owned first). Collective.
+  subroutine write_step(self, out, mesh, trac, jump, state, rot, status)
     class(fracture_output_t), intent(inout) :: self
     type(field_output_t), intent(inout) :: out
     type(dist_mesh_t), intent(in) :: mesh
-    type(contact_t), intent(in) :: phys
+    real(rp), intent(in) :: trac(:,:)        !< (3, n) traction in the element frame [Pa]
+    real(rp), intent(in) :: jump(:,:)        !< (3, n) mean jump in the element frame [m]
+    integer, intent(in) :: state(:)          !< status: 1 stick, 2 slip, 3 open
+    real(rp), intent(in) :: rot(:,:,:)       !< (3, 3, n) frame rows: normal, tangent 1, tangent 2
     type(error_status_t), intent(inout) :: status
     real(rp), allocatable :: v(:,:)
     integer(ip), allocatable :: iv(:)
     integer(ip) :: nown, e
     nown = mesh%iface_map%n_owned
     allocate(v(3, nown), iv(nown))
-    v = phys%trac(:, 1:nown)
+    v = trac(:, 1:nown)
     call out%writer%cell_field('traction', v, status, self%grid)
     if (status%ok()) then
-      v = phys%jump(:, 1:nown)
+      v = jump(:, 1:nown)
       call out%writer%cell_field('jump', v, status, self%grid)
     end if
     if (status%ok()) then
-      iv = phys%state(1:nown)
+      iv = state(1:nown)
       call out%writer%cell_field('status', iv, status, self%grid)
     end if
     if (status%ok()) then
@@ -83,11 +86,11 @@ contains
       call out%writer%cell_field('rank', iv, status, self%grid)
     end if
     if (status%ok()) then
-      v = phys%rot(1, :, 1:nown)
+      v = rot(1, :, 1:nown)
       call out%writer%cell_field('normal', v, status, self%grid)
     end if
     if (status%ok()) then
-      v = phys%rot(2, :, 1:nown)
+      v = rot(2, :, 1:nown)
       call out%writer%cell_field('tangent1', v, status, self%grid)
     end if
     if (status%ok()) then

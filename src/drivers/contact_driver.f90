@@ -172,7 +172,7 @@ contains
         call timers%start('output')
         call phys%mech%cell_stress(mesh, phys%u, stress)
         call out%write_step(mesh, lf_done, phys%u, stress, status, keep_open=.true.)
-        if (status%ok()) call fout%write_step(out, mesh, phys, status)
+        if (status%ok()) call fout%write_step(out, mesh, phys%trac, phys%jump, phys%state, phys%rot, status)
         if (status%ok()) call out%writer%end_step(status)
         call timers%stop('output')
         if (.not. status%ok()) call log%fatal(comm, status%msg)
