@@ -86,9 +86,20 @@ module mumps_solver
     procedure :: apply => mumps_apply
     procedure :: name => mumps_name
     procedure :: free => mumps_free
+    procedure :: summary
   end type mumps_solver_t
 
 contains
+
+  !> One line on the last factorization for the log: entries in the factors,
+  !> peak memory, analysis + factorization time.
+  function summary(self) result(line)
+    class(mumps_solver_t), intent(in) :: self
+    character(len=msg_len) :: line
+    write(line, '(a,i0,a,i0,a,i0,a,f8.3,a)') '  MUMPS: ', self%factor_entries, ' entries in the factors, peak memory ', &
+      self%peak_mem_max_mb, ' MB (max over ranks), ', self%peak_mem_total_mb, ' MB (total), analysis + factorization ', &
+      self%setup_time, ' s'
+  end function summary
 
   !> Analyse and factorize A (collective over A's communicator).
   !>   A         : square distributed matrix, owned rows on each rank

@@ -3,12 +3,15 @@
 !> &run      title        free text shown in the log                         ['']
 !>           physics      'elasticity', 'biot' (three-field poromechanics) or
 !>                        'contact' (elasticity with frictional faults, &fault
-!>                        and &contact groups)                              ['elasticity']
+!>                        and &contact groups); the driver checks the name
+!>                        against simulation_factory                          ['elasticity']
 !>           verbosity    0 quiet, 1 progress lines, 2 also the deck echo     [1]
 !> &time     n_steps      elasticity, contact: load steps; loads grow linearly and reach
 !>                        their full value at the last step (>= 1)           [1]
 !>           dt           biot: first time step [s] (> 0)                    [required for biot]
 !>           t_end        biot: end time [s] (> 0)                           [required for biot]
+!>                        (check_transient: required for every physics that
+!>                        steps in time)
 !>           dt_growth    biot: ratio of successive steps (>= 1)             [1]
 !>           dt_max       biot: largest step [s]                             [no limit]
 !>           undrained    biot: start with the undrained response at t = 0  [.true.]
@@ -48,33 +51,35 @@ module run_config
     logical :: export_matrix = .false.
   contains
     procedure :: read => read_run_config
+    procedure :: check_transient
   end type run_config_t
 
 contains
 
-  !> Read &run, &time and &output (all optional).
+  !> Read &run, &time and &output (all optional). The time-step variables
+  !> are checked for a transient physics by check_transient.
   subroutine read_run_config(self, d, log, status)
     class(run_config_t), intent(inout) :: self
     type(deck_t), intent(in) :: d
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
+    call read_run_group(self, d, log, status)
+    if (status%ok()) call read_time_group(self, d, log, status)
+    if (status%ok()) call read_output_group(self, d, log, status)
+  end subroutine read_run_config
+
+  subroutine read_run_group(self, d, log, status)
+    type(run_config_t), intent(inout) :: self
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
     character(len=128) :: title
     character(len=name_len) :: physics
-    integer :: verbosity, n_steps, ios, p
-    real(rp) :: dt, t_end, dt_growth, dt_max, times(max_times)
-    logical :: undrained
-    integer :: nt
-    character(len=path_len) :: dir
-    character(len=name_len) :: prefix
-    logical :: fields, export_matrix
-    integer :: every
+    integer :: verbosity, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(16)
+    character(len=echo_len) :: echo(8)
     namelist /run/ title, physics, verbosity
-    namelist /time/ n_steps, dt, t_end, dt_growth, dt_max, undrained, times
-    namelist /output/ dir, prefix, fields, export_matrix, every
-
     title = ''; physics = 'elasticity'; verbosity = 1
     if (d%count('run') > 0) then
       call d%block('run', 1, b)
@@ -83,12 +88,30 @@ contains
         call d%read_error('run', 1, ios, msg, status)
         return
       end if
-      if (physics /= 'elasticity' .and. physics /= 'biot' .and. physics /= 'contact') &
-        call d%fail(status, 'run', 1, 'physics', "must be 'elasticity', 'biot' or 'contact' (got '"// &
-                    trim(physics)//"')")
       if (verbosity < 0 .or. verbosity > 2) &
         call d%fail(status, 'run', 1, 'verbosity', 'must be 0, 1 or 2 (got '//itoa(verbosity)//')')
     end if
+    if (.not. status%ok()) return
+    self%title = title
+    self%physics = physics
+    self%verbosity = verbosity
+    echo = ''
+    write(echo, nml=run, iostat=ios)
+    call d%echo(log, echo)
+  end subroutine read_run_group
+
+  subroutine read_time_group(self, d, log, status)
+    type(run_config_t), intent(inout) :: self
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    integer :: n_steps, ios, nt
+    real(rp) :: dt, t_end, dt_growth, dt_max, times(max_times)
+    logical :: undrained
+    character(len=msg_len) :: msg
+    character(len=line_len), allocatable :: b(:)
+    character(len=echo_len) :: echo(16)
+    namelist /time/ n_steps, dt, t_end, dt_growth, dt_max, undrained, times
     n_steps = 1; dt = unset_real; t_end = unset_real; dt_growth = 1.0_rp; dt_max = huge(1.0_rp); undrained = .true.
     times = unset_real
     if (d%count('time') > 0) then
@@ -114,20 +137,33 @@ contains
         t_end = times(nt)
       end if
     end if
-    if (physics == 'biot') then
-      if (dt == unset_real) then
-        call d%fail(status, 'time', 1, 'dt', "required for physics = 'biot'")
-      else if (.not. dt > 0.0_rp) then
-        call d%fail(status, 'time', 1, 'dt', 'must be positive (got '//rtoa(dt)//')')
-      end if
-      if (t_end == unset_real) then
-        call d%fail(status, 'time', 1, 't_end', "required for physics = 'biot'")
-      else if (.not. t_end > 0.0_rp) then
-        call d%fail(status, 'time', 1, 't_end', 'must be positive (got '//rtoa(t_end)//')')
-      end if
-      if (.not. dt_growth >= 1.0_rp) call d%fail(status, 'time', 1, 'dt_growth', 'must be >= 1 (got '//rtoa(dt_growth)//')')
-      if (.not. dt_max > 0.0_rp) call d%fail(status, 'time', 1, 'dt_max', 'must be positive (got '//rtoa(dt_max)//')')
-    end if
+    if (.not. status%ok()) return
+    self%n_steps = n_steps
+    self%dt = dt
+    self%t_end = t_end
+    self%dt_growth = dt_growth
+    self%dt_max = dt_max
+    self%undrained = undrained
+    if (allocated(self%times)) deallocate(self%times)
+    if (nt > 0) self%times = times(1:nt)
+    echo = ''
+    write(echo, nml=time, iostat=ios)
+    call d%echo(log, echo)
+  end subroutine read_time_group
+
+  subroutine read_output_group(self, d, log, status)
+    type(run_config_t), intent(inout) :: self
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    integer :: ios, p, every
+    character(len=path_len) :: dir
+    character(len=name_len) :: prefix
+    logical :: fields, export_matrix
+    character(len=msg_len) :: msg
+    character(len=line_len), allocatable :: b(:)
+    character(len=echo_len) :: echo(8)
+    namelist /output/ dir, prefix, fields, export_matrix, every
     dir = 'out'; fields = .true.; export_matrix = .false.; every = 1
     ! default prefix: the deck's file name without directory and extension
     prefix = d%path(index(d%path, '/', back=.true.) + 1:)
@@ -146,30 +182,36 @@ contains
         call d%fail(status, 'output', 1, 'prefix', 'must be a plain file name (no blanks or /)')
     end if
     if (.not. status%ok()) return
-    self%title = title
-    self%physics = physics
-    self%verbosity = verbosity
-    self%n_steps = n_steps
-    self%dt = dt
-    self%t_end = t_end
-    self%dt_growth = dt_growth
-    self%dt_max = dt_max
-    self%undrained = undrained
-    if (allocated(self%times)) deallocate(self%times)
-    if (nt > 0) self%times = times(1:nt)
     self%out_dir = dir
     self%prefix = prefix
     self%fields = fields
     self%every = every
     self%export_matrix = export_matrix
     echo = ''
-    write(echo, nml=run, iostat=ios)
-    call d%echo(log, echo)
-    echo = ''
-    write(echo, nml=time, iostat=ios)
-    call d%echo(log, echo)
-    echo = ''
     write(echo, nml=output, iostat=ios)
     call d%echo(log, echo)
-  end subroutine read_run_config
+  end subroutine read_output_group
+
+  !> A physics that steps in time needs dt and t_end (or times) in &time,
+  !> with dt_growth >= 1 and dt_max > 0; physics names it in the messages.
+  subroutine check_transient(self, d, physics, status)
+    class(run_config_t), intent(in) :: self
+    type(deck_t), intent(in) :: d
+    character(len=*), intent(in) :: physics
+    type(error_status_t), intent(inout) :: status
+    if (self%dt == unset_real) then
+      call d%fail(status, 'time', 1, 'dt', "required for physics = '"//trim(physics)//"'")
+    else if (.not. self%dt > 0.0_rp) then
+      call d%fail(status, 'time', 1, 'dt', 'must be positive (got '//rtoa(self%dt)//')')
+    end if
+    if (self%t_end == unset_real) then
+      call d%fail(status, 'time', 1, 't_end', "required for physics = '"//trim(physics)//"'")
+    else if (.not. self%t_end > 0.0_rp) then
+      call d%fail(status, 'time', 1, 't_end', 'must be positive (got '//rtoa(self%t_end)//')')
+    end if
+    if (.not. self%dt_growth >= 1.0_rp) &
+      call d%fail(status, 'time', 1, 'dt_growth', 'must be >= 1 (got '//rtoa(self%dt_growth)//')')
+    if (.not. self%dt_max > 0.0_rp) &
+      call d%fail(status, 'time', 1, 'dt_max', 'must be positive (got '//rtoa(self%dt_max)//')')
+  end subroutine check_transient
 end module run_config

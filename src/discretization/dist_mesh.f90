@@ -73,6 +73,13 @@ module dist_mesh
     procedure :: free
   end type dist_mesh_t
 
+  !> Owners (ranks) and global ids, by global-mesh entity, while the mesh is
+  !> distributed.
+  type :: ownership_t
+    integer(ip), allocatable :: node(:), face(:), iface(:)
+    integer(gp), allocatable :: node_gid(:), cell_gid(:), face_gid(:), iface_gid(:)
+  end type ownership_t
+
 contains
 
   !> Distribute the global mesh held by rank 0 according to part (rank 0's
@@ -83,46 +90,82 @@ contains
     type(mesh_t), intent(inout) :: gmesh
     integer(ip), intent(inout), allocatable :: part(:)
     type(error_status_t), intent(inout) :: status
-    integer(ip), allocatable :: node_owner(:), face_owner(:), g2l(:), lcells(:), lnodes(:), lfaces(:)
-    integer(ip), allocatable :: iface_owner(:), lifaces(:)
-    integer(gp), allocatable :: node_gid(:), cell_gid(:), face_gid(:), iface_gid(:)
-    logical, allocatable :: touched(:), is_local(:)
-    integer(ip) :: me, c, k, n, f, s, nown, i, j, e
-    logical :: grew
+    type(ownership_t) :: own
+    integer(ip), allocatable :: lcells(:), lnodes(:), lfaces(:)
 
     call self%free()
     self%comm = comm
-    me = comm%rank
     call bcast_mesh(comm, gmesh)
     if (.not. comm%is_root()) allocate(part(gmesh%n_cells))
     call comm%bcast(part)
-
-    ! owners and contiguous global numbering
-    allocate(node_owner(gmesh%n_nodes), face_owner(gmesh%n_faces))
-    node_owner = huge(1_ip)
-    do c = 1, gmesh%n_cells
-      do k = 1, 8
-        n = gmesh%cell_nodes(k, c)
-        node_owner(n) = min(node_owner(n), part(c))
-      end do
-    end do
-    do f = 1, gmesh%n_faces
-      face_owner(f) = part(gmesh%face_cells(1, f))
-      if (gmesh%face_cells(2, f) > 0) face_owner(f) = min(face_owner(f), part(gmesh%face_cells(2, f)))
-    end do
-    node_gid = renumber(node_owner, comm%size)
-    cell_gid = renumber(part, comm%size)
-    face_gid = renumber(face_owner, comm%size)
     self%n_nodes_global = gmesh%n_nodes
     self%n_cells_global = gmesh%n_cells
     self%n_faces_global = gmesh%n_faces
-    allocate(iface_owner(gmesh%n_ifaces))
-    do e = 1, gmesh%n_ifaces
-      iface_owner(e) = part(gmesh%iface_cells(1, e))
-    end do
-    iface_gid = renumber(iface_owner, comm%size)
 
-    ! local cells: owned, then ghosts sharing a node with an owned cell
+    call find_owners(gmesh, part, comm%size, own)
+    call local_entities(self, comm, gmesh, part, own, lcells, lnodes, lfaces)
+    call local_topology(self, gmesh, lcells, lnodes, lfaces)
+    call local_interfaces(self, comm, gmesh, own, lcells, lnodes)
+    self%cell_region = gmesh%cell_region(lcells)
+    self%cell_owner = part(lcells)
+    allocate(self%node_orig(self%n_nodes), self%cell_orig(self%n_cells), self%face_orig(self%n_faces))
+    self%node_orig = int(lnodes, gp)
+    self%cell_orig = int(lcells, gp)
+    self%face_orig = int(lfaces, gp)
+
+    if (.not. comm%is_root()) then
+      call gmesh%free()
+      deallocate(part)
+    end if
+    if (comm%any_true(self%cell_map%n_owned == 0)) &
+      call status%set('distributed mesh: a rank has no cells (fewer cells than ranks?)')
+  end subroutine build
+
+  !> Owners of the nodes (the lowest rank among their cells'), faces (the
+  !> lowest of their two cells'), cells (part) and interface elements (the
+  !> owner of their first cell), and the contiguous global numbering by
+  !> owner of each kind.
+  subroutine find_owners(gmesh, part, n_ranks, own)
+    type(mesh_t), intent(in) :: gmesh
+    integer(ip), intent(in) :: part(:)
+    integer, intent(in) :: n_ranks
+    type(ownership_t), intent(out) :: own
+    integer(ip) :: c, k, n, f, e
+    allocate(own%node(gmesh%n_nodes), own%face(gmesh%n_faces), own%iface(gmesh%n_ifaces))
+    own%node = huge(1_ip)
+    do c = 1, gmesh%n_cells
+      do k = 1, 8
+        n = gmesh%cell_nodes(k, c)
+        own%node(n) = min(own%node(n), part(c))
+      end do
+    end do
+    do f = 1, gmesh%n_faces
+      own%face(f) = part(gmesh%face_cells(1, f))
+      if (gmesh%face_cells(2, f) > 0) own%face(f) = min(own%face(f), part(gmesh%face_cells(2, f)))
+    end do
+    do e = 1, gmesh%n_ifaces
+      own%iface(e) = part(gmesh%iface_cells(1, e))
+    end do
+    own%node_gid = renumber(own%node, n_ranks)
+    own%cell_gid = renumber(part, n_ranks)
+    own%face_gid = renumber(own%face, n_ranks)
+    own%iface_gid = renumber(own%iface, n_ranks)
+  end subroutine find_owners
+
+  !> The local cells (owned, then the ghosts that share a node with an owned
+  !> cell, across faults too), nodes and faces (those of the local cells),
+  !> as lists of global-mesh ids, owned first; their index maps.
+  subroutine local_entities(self, comm, gmesh, part, own, lcells, lnodes, lfaces)
+    type(dist_mesh_t), intent(inout) :: self
+    type(parallel_comm_t), intent(in) :: comm
+    type(mesh_t), intent(in) :: gmesh
+    integer(ip), intent(in) :: part(:)
+    type(ownership_t), intent(in) :: own
+    integer(ip), allocatable, intent(out) :: lcells(:), lnodes(:), lfaces(:)
+    logical, allocatable :: touched(:), is_local(:)
+    integer(ip) :: me, c, k, nown, i, e
+    logical :: grew
+    me = comm%rank
     allocate(touched(gmesh%n_nodes), is_local(gmesh%n_cells))
     touched = .false.
     do c = 1, gmesh%n_cells
@@ -144,34 +187,40 @@ contains
     do c = 1, gmesh%n_cells
       is_local(c) = part(c) == me .or. any(touched(gmesh%cell_nodes(:, c)))
     end do
-    call ordered_local(is_local, part == me, cell_gid, lcells)
+    call ordered_local(is_local, part == me, own%cell_gid, lcells)
     nown = count(part == me)
     self%n_cells = size(lcells, kind=ip)
-    call self%cell_map%init(comm, nown, cell_gid(lcells(nown+1:)))
+    call self%cell_map%init(comm, nown, own%cell_gid(lcells(nown+1:)))
 
-    ! local nodes: those of the local cells
     touched = .false.
     do i = 1, self%n_cells
       touched(gmesh%cell_nodes(:, lcells(i))) = .true.
     end do
-    call ordered_local(touched, node_owner == me, node_gid, lnodes)
-    nown = count(node_owner == me)
+    call ordered_local(touched, own%node == me, own%node_gid, lnodes)
+    nown = count(own%node == me)
     self%n_nodes = size(lnodes, kind=ip)
-    call self%node_map%init(comm, nown, node_gid(lnodes(nown+1:)))
+    call self%node_map%init(comm, nown, own%node_gid(lnodes(nown+1:)))
 
-    ! local faces: those of the local cells
     deallocate(is_local)
     allocate(is_local(gmesh%n_faces))
     is_local = .false.
     do i = 1, self%n_cells
       is_local(gmesh%cell_faces(:, lcells(i))) = .true.
     end do
-    call ordered_local(is_local, face_owner == me, face_gid, lfaces)
-    nown = count(face_owner == me)
+    call ordered_local(is_local, own%face == me, own%face_gid, lfaces)
+    nown = count(own%face == me)
     self%n_faces = size(lfaces, kind=ip)
-    call self%face_map%init(comm, nown, face_gid(lfaces(nown+1:)))
+    call self%face_map%init(comm, nown, own%face_gid(lfaces(nown+1:)))
+  end subroutine local_entities
 
-    ! local connectivity
+  !> Local coordinates and connectivity (cells, faces, node and surface
+  !> sets) in local numbering.
+  subroutine local_topology(self, gmesh, lcells, lnodes, lfaces)
+    type(dist_mesh_t), intent(inout) :: self
+    type(mesh_t), intent(in) :: gmesh
+    integer(ip), intent(in) :: lcells(:), lnodes(:), lfaces(:)
+    integer(ip), allocatable :: g2l(:)
+    integer(ip) :: i, j, s, f
     allocate(g2l(max(gmesh%n_nodes, gmesh%n_cells, gmesh%n_faces)))
     g2l = 0
     do i = 1, self%n_nodes
@@ -224,16 +273,32 @@ contains
       self%face_cells(2, i) = 0
       if (gmesh%face_cells(2, f) > 0) self%face_cells(2, i) = g2l(gmesh%face_cells(2, f))
     end do
-    ! local interface elements: both cells local
-    deallocate(is_local)
+  end subroutine local_topology
+
+  !> The local interface elements (both cells local), owned first, their
+  !> index map, cells, nodes and faults.
+  subroutine local_interfaces(self, comm, gmesh, own, lcells, lnodes)
+    type(dist_mesh_t), intent(inout) :: self
+    type(parallel_comm_t), intent(in) :: comm
+    type(mesh_t), intent(in) :: gmesh
+    type(ownership_t), intent(in) :: own
+    integer(ip), intent(in) :: lcells(:), lnodes(:)
+    integer(ip), allocatable :: g2l(:), lifaces(:)
+    logical, allocatable :: is_local(:)
+    integer(ip) :: i, e, nown
+    allocate(g2l(max(gmesh%n_nodes, gmesh%n_cells)))
+    g2l = 0
+    do i = 1, self%n_cells
+      g2l(lcells(i)) = i
+    end do
     allocate(is_local(gmesh%n_ifaces))
     do e = 1, gmesh%n_ifaces
       is_local(e) = all(g2l(gmesh%iface_cells(:, e)) > 0)
     end do
-    call ordered_local(is_local, iface_owner == me, iface_gid, lifaces)
-    nown = count(iface_owner == me)
+    call ordered_local(is_local, own%iface == comm%rank, own%iface_gid, lifaces)
+    nown = count(own%iface == comm%rank)
     self%n_ifaces = size(lifaces, kind=ip)
-    call self%iface_map%init(comm, nown, iface_gid(lifaces(nown+1:)))
+    call self%iface_map%init(comm, nown, own%iface_gid(lifaces(nown+1:)))
     allocate(self%iface_cells(2, self%n_ifaces), self%iface_nodes(4, 2, self%n_ifaces))
     allocate(self%iface_fault(self%n_ifaces), self%iface_orig(self%n_ifaces))
     do i = 1, self%n_ifaces
@@ -254,21 +319,7 @@ contains
     else
       allocate(self%fault_names(0))
     end if
-
-    self%cell_region = gmesh%cell_region(lcells)
-    self%cell_owner = part(lcells)
-    allocate(self%node_orig(self%n_nodes), self%cell_orig(self%n_cells), self%face_orig(self%n_faces))
-    self%node_orig = int(lnodes, gp)
-    self%cell_orig = int(lcells, gp)
-    self%face_orig = int(lfaces, gp)
-
-    if (.not. comm%is_root()) then
-      call gmesh%free()
-      deallocate(part)
-    end if
-    if (comm%any_true(self%cell_map%n_owned == 0)) &
-      call status%set('distributed mesh: a rank has no cells (fewer cells than ranks?)')
-  end subroutine build
+  end subroutine local_interfaces
 
   !> Contiguous global numbering by owner: owner ranks in order, and the
   !> original order within each rank. Returns 1-based global ids.

@@ -1,7 +1,9 @@
 !> geoblock: coupled poromechanics and fault mechanics on distributed meshes.
 !>
 !> Usage: mpirun -np N geoblock DECK.nml
-!> The deck is a file of namelist groups (see README.md and input/).
+!> The deck is a file of namelist groups (see README.md and input/). The
+!> physics named in &run is made by simulation_factory and run by the one
+!> time loop (time_loop.f90).
 program geoblock
   use kinds, only: path_len
   use parallel_comm, only: parallel_comm_t
@@ -10,9 +12,9 @@ program geoblock
   use strings, only: itoa
   use deck, only: deck_t
   use run_config, only: run_config_t
-  use elastic_driver, only: run_elasticity
-  use biot_driver, only: run_biot
-  use contact_driver, only: run_contact
+  use simulation, only: simulation_t
+  use simulation_factory, only: make_simulation, physics_names
+  use time_loop, only: run_simulation
   implicit none
 
   type(parallel_comm_t) :: comm
@@ -20,6 +22,7 @@ program geoblock
   type(deck_t) :: d
   type(run_config_t) :: run
   type(error_status_t) :: status
+  class(simulation_t), allocatable :: sim
   character(len=path_len) :: path
   integer :: ios, estat
 
@@ -35,6 +38,13 @@ program geoblock
      'afsai', 'block_fsai', 'fault', 'contact'], &
     [character(len=16) :: 'material', 'boundary', 'source', 'fault'], status)
   if (status%ok()) call run%read(d, log, status)
+  if (status%ok()) then
+    call make_simulation(run%physics, sim, status)
+    if (.not. status%ok()) then
+      call status%clear()
+      call d%fail(status, 'run', 1, 'physics', 'must be one of '//physics_names//" (got '"//trim(run%physics)//"')")
+    end if
+  end if
   if (.not. status%ok()) call log%fatal(comm, status%msg)
   log%verbosity = run%verbosity
 
@@ -50,15 +60,7 @@ program geoblock
 
   call log%info('geoblock: '//trim(run%title))
   call log%info('deck: '//trim(path)//', ranks: '//itoa(comm%size))
-
-  select case (run%physics)
-  case ('elasticity')
-    call run_elasticity(comm, log, d, run)
-  case ('biot')
-    call run_biot(comm, log, d, run)
-  case ('contact')
-    call run_contact(comm, log, d, run)
-  end select
+  call run_simulation(comm, log, d, run, sim)
   call log%close()
   call comm%finalize()
 end program geoblock

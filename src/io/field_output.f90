@@ -1,5 +1,8 @@
 !> Output of the fields on the distributed mesh: HDF5 files and the XDMF
 !> index that ParaView opens (through xdmf_writer), one step per output time.
+!> The driver opens the output and each step (begin_step, end_step); the
+!> physics write their fields in between, through the helpers here or the
+!> writer itself (other grids, e.g. the fractures, through their grid id).
 module field_output
   use kinds, only: rp, ip, gp
   use error_status, only: error_status_t
@@ -15,14 +18,18 @@ module field_output
     logical :: active = .false.
   contains
     procedure :: init
-    procedure :: write_step
+    procedure :: begin_step
+    procedure :: end_step
+    procedure :: write_displacement
+    procedure :: write_mesh_ids
     procedure :: path
     procedure :: free
   end type field_output_t
 
 contains
 
-  !> Write the mesh (owned nodes and cells of every rank). Collective.
+  !> Create the files in dir with prefix and write the mesh (owned nodes and
+  !> cells of every rank). Collective.
   subroutine init(self, mesh, dir, prefix, status)
     class(field_output_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
@@ -43,27 +50,41 @@ contains
     self%active = status%ok()
   end subroutine init
 
-  !> One output time: displacement per node [m], stress per cell [Pa] (Tensor6,
-  !> xx xy xz yy yz zz), region id and rank per cell. With keep_open the step
-  !> stays open for further grids' fields (the caller ends it with
-  !> self%writer%end_step). Collective.
-  subroutine write_step(self, mesh, time, u_loc, stress, status, keep_open)
+  !> Open the output step of time t [s, or load factor]. Collective.
+  subroutine begin_step(self, t, status)
+    class(field_output_t), intent(inout) :: self
+    real(rp), intent(in) :: t
+    type(error_status_t), intent(inout) :: status
+    call self%writer%begin_step(t, status)
+  end subroutine begin_step
+
+  !> Close the output step (the XDMF index gets it). Collective.
+  subroutine end_step(self, status)
+    class(field_output_t), intent(inout) :: self
+    type(error_status_t), intent(inout) :: status
+    call self%writer%end_step(status)
+  end subroutine end_step
+
+  !> Node field 'displacement' [m] from a local vector of 3 interleaved
+  !> components per node (owned nodes first). Collective.
+  subroutine write_displacement(self, mesh, u_loc, status)
     class(field_output_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
-    real(rp), intent(in) :: time
-    real(rp), intent(in) :: u_loc(:)          !< displacement, 3 per local node (interleaved)
-    real(rp), intent(in) :: stress(:,:)       !< (6, owned cells)
+    real(rp), intent(in) :: u_loc(:)
     type(error_status_t), intent(inout) :: status
-    logical, intent(in), optional :: keep_open
-    real(rp), allocatable :: u(:,:)
-    integer(ip) :: nn, nc
-    integer(ip), allocatable :: ids(:)
+    integer(ip) :: nn
     nn = mesh%node_map%n_owned
+    if (status%ok()) call self%writer%node_field('displacement', reshape(u_loc(1:3*nn), [3, nn]), status)
+  end subroutine write_displacement
+
+  !> Cell fields 'region' (region id) and 'rank' (owning rank). Collective.
+  subroutine write_mesh_ids(self, mesh, status)
+    class(field_output_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    type(error_status_t), intent(inout) :: status
+    integer(ip), allocatable :: ids(:)
+    integer(ip) :: nc
     nc = mesh%cell_map%n_owned
-    u = reshape(u_loc(1:3*nn), [3, nn])
-    call self%writer%begin_step(time, status)
-    if (status%ok()) call self%writer%node_field('displacement', u, status)
-    if (status%ok()) call self%writer%cell_field('stress', stress(:, 1:nc), status)
     if (status%ok()) then
       ids = mesh%cell_region(1:nc)
       call self%writer%cell_field('region', ids, status)
@@ -72,11 +93,7 @@ contains
       ids = mesh%cell_owner(1:nc)
       call self%writer%cell_field('rank', ids, status)
     end if
-    if (present(keep_open)) then
-      if (keep_open) return
-    end if
-    if (status%ok()) call self%writer%end_step(status)
-  end subroutine write_step
+  end subroutine write_mesh_ids
 
   !> Path of the XDMF file.
   function path(self) result(p)

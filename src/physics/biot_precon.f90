@@ -23,9 +23,8 @@ module biot_precon
   use global_csr, only: global_csr_t, from_csr, to_csr, gcsr_transpose, gcsr_multiply, gcsr_add, drop_small
   use amg_params, only: amg_params_t
   use precon, only: precon_t
-  use boomeramg_precon, only: boomeramg_precon_t
   use jacobi_precon, only: jacobi_precon_t
-  use afsai_precon, only: afsai_precon_t
+  use precon_factory, only: precon_params_t, make_and_setup, stored_nnz
   use fsai_params, only: fsai_params_t
   use block_fsai, only: decoupling_factor
   use block_precon, only: block_precon_t
@@ -156,7 +155,9 @@ contains
     self%t_p1 = wall_time() - t0
   end subroutine setup_fixed
 
-  !> S_i for a diagonal block: 'boomeramg' (settings amg), 'jacobi' or 'afsai'.
+  !> S_i for a diagonal block: the preconditioner called which (the deck
+  !> allows 'boomeramg', 'jacobi', 'afsai'), with settings amg and the &afsai
+  !> ones, ordering keys key.
   subroutine diagonal_precon(self, i, a, which, amg, key, status)
     type(biot_precon_t), intent(inout) :: self
     integer, intent(in) :: i
@@ -165,36 +166,11 @@ contains
     type(amg_params_t), intent(in) :: amg
     integer(gp), intent(in) :: key(:)
     type(error_status_t), intent(inout) :: status
-    select case (which)
-    case ('afsai')
-      allocate(afsai_precon_t :: self%bp%s(i)%p)
-    case ('jacobi')
-      allocate(jacobi_precon_t :: self%bp%s(i)%p)
-    case default
-      allocate(boomeramg_precon_t :: self%bp%s(i)%p)
-    end select
-    select type (p => self%bp%s(i)%p)
-    type is (afsai_precon_t)
-      call p%setup(a, self%fsai, status, key)
-    type is (jacobi_precon_t)
-      call p%setup(a, status)
-    type is (boomeramg_precon_t)
-      call p%setup(a, amg, status)
-    end select
+    type(precon_params_t) :: params
+    params%amg = amg
+    params%fsai = self%fsai
+    call make_and_setup(which, self%bp%s(i)%p, a, params, status, keys=key)
   end subroutine diagonal_precon
-
-  !> Non-zeros a preconditioner stores beyond the matrix (aFSAI: its factor;
-  !> Jacobi: the diagonal; BoomerAMG: its hierarchy is not counted). Collective.
-  integer(gp) function stored_nnz(p)
-    class(precon_t), intent(in) :: p
-    stored_nnz = 0
-    select type (p)
-    type is (afsai_precon_t)
-      stored_nnz = p%nnz_factor()
-    type is (jacobi_precon_t)
-      stored_nnz = 0
-    end select
-  end function stored_nnz
 
   !> The gamma-dependent part (T_p2) for the step size dt (gamma = dt; 0 in
   !> the undrained step): the Schur matrix and its preconditioner, and the
@@ -223,21 +199,7 @@ contains
     case default
       call phys%fixed_stress_schur(mesh, dt, self%s)
     end select
-    if (allocated(self%bp%s(ipr)%p)) then
-      call self%bp%s(ipr)%p%free()
-      deallocate(self%bp%s(ipr)%p)
-    end if
-    if (self%schur_precon == 'afsai') then
-      allocate(afsai_precon_t :: self%bp%s(ipr)%p)
-    else
-      allocate(boomeramg_precon_t :: self%bp%s(ipr)%p)
-    end if
-    select type (p => self%bp%s(ipr)%p)
-    type is (afsai_precon_t)
-      call p%setup(self%s, self%fsai, status, self%key_p)
-    type is (boomeramg_precon_t)
-      call p%setup(self%s, self%amg_s, status)
-    end select
+    call diagonal_precon(self, ipr, self%s, self%schur_precon, self%amg_s, self%key_p, status)
     if (self%explicit .and. (self%mode == 'ldu' .or. self%mode == 'lower')) call self%bp%set_explicit(ipr, iq, -dt)
     self%nnz_dt = stored_nnz(self%bp%s(ipr)%p)
     if (self%schur == 'explicit') self%nnz_dt = self%nnz_dt + self%s%global_nnz()

@@ -75,11 +75,10 @@ module contact
     real(rp), allocatable :: s(:)                  !< scale of the open and slip rows [m^3/Pa]
     real(rp), allocatable :: fric(:), coh(:), pres(:)      !< tan(phi), cohesion [Pa], fluid pressure [Pa]
     integer, allocatable :: fault(:)               !< index of the element's fault in faults(:)
-    integer, allocatable :: state(:), state_step(:)
+    integer, allocatable :: state(:)
     logical, allocatable :: fresh(:)               !< slip since the last update: direction from t_T
     real(rp), allocatable :: trac(:,:), trac_step(:,:)     !< (3,n) local-frame traction [Pa]
     real(rp), allocatable :: jump(:,:), jump_step(:,:)     !< (3,n) local-frame mean jump [m]
-    real(rp), allocatable :: u_step(:)
     ! stabilization edges
     integer(ip) :: n_edges = 0
     integer(ip), allocatable :: edge(:,:)          !< (2, n_edges) local elements
@@ -95,7 +94,6 @@ module contact
     procedure :: take_solution
     procedure :: update_states
     procedure :: begin_step
-    procedure :: restore_step
     procedure :: count_states
     procedure :: ht_diagonal
     procedure :: free
@@ -163,7 +161,7 @@ contains
     call assemble_c1(self, mesh)
 
     ! fault properties and initial state
-    allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%state_step(n), self%fault(n))
+    allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%fault(n))
     do e = 1, n
       f = fault_index(self, mesh, mesh%iface_fault(e))
       self%fault(e) = f
@@ -177,7 +175,6 @@ contains
       self%state(e) = state_stick
       if (faults(f)%initial_state == 'open') self%state(e) = state_open
     end do
-    self%state_step = self%state
     allocate(self%fresh(n))
     self%fresh = .false.
     allocate(self%trac(3, n), self%trac_step(3, n), self%jump(3, n), self%jump_step(3, n))
@@ -187,9 +184,8 @@ contains
     self%jump_step = 0.0_rp
     allocate(self%x(self%sys%offset(3)), self%rhs(self%sys%offset(3)))
     self%x = 0.0_rp
-    allocate(self%u(self%mech%u%n_local()), self%u_step(self%mech%u%n_local()), self%f_u(self%mech%u%n_owned()))
+    allocate(self%u(self%mech%u%n_local()), self%f_u(self%mech%u%n_owned()))
     self%u = 0.0_rp
-    self%u_step = 0.0_rp
   end subroutine init
 
   integer function fault_index(self, mesh, mf)
@@ -449,37 +445,22 @@ contains
     end if
   end subroutine assemble_stiffness
 
-  !> Start a load step at load factor lf: remember the state (for a cut),
-  !> impose the prescribed displacements. Collective.
+  !> Start a load step at load factor lf: remember the tractions and jumps
+  !> of the step's start (the stick and slip conditions are measured from
+  !> them), impose the prescribed displacements. (A step cut goes back to
+  !> the accepted state through the simulation's state record.) Collective.
   subroutine begin_step(self, lf)
     class(contact_t), intent(inout) :: self
     real(rp), intent(in) :: lf
     integer(ip) :: i, u0, u1
-    self%u_step = self%u
     self%trac_step = self%trac
     self%jump_step = self%jump
-    self%state_step = self%state
     do i = 1, self%mech%u%n_local()
       if (self%mech%fixed(i)) self%u(i) = lf * self%mech%prescribed_value(i)
     end do
     call self%sys%block_range(self%bu, u0, u1)
     self%x(u0:u1) = self%u(1:u1-u0+1)
   end subroutine begin_step
-
-  !> Back to the state at the start of the step (before a step cut).
-  subroutine restore_step(self)
-    class(contact_t), intent(inout) :: self
-    integer(ip) :: u0, u1, t0, t1
-    self%u = self%u_step
-    self%trac = self%trac_step
-    self%jump = self%jump_step
-    self%state = self%state_step
-    self%fresh = .false.
-    call self%sys%block_range(self%bu, u0, u1)
-    call self%sys%block_range(self%bt, t0, t1)
-    self%x(u0:u1) = self%u(1:u1-u0+1)
-    self%x(t0:t1) = reshape(self%trac(:, 1:(t1-t0+1)/3), [t1-t0+1])
-  end subroutine restore_step
 
   !> The Jacobian blocks of the contact rows and rhs = -residual at the
   !> current state (x, u, trac, jump, state). Collective.
@@ -754,10 +735,10 @@ contains
     call self%t%free()
     if (allocated(self%x)) deallocate(self%x, self%rhs)
     if (allocated(self%f_u)) deallocate(self%f_u)
-    if (allocated(self%u)) deallocate(self%u, self%u_step)
+    if (allocated(self%u)) deallocate(self%u)
     if (allocated(self%area)) deallocate(self%area, self%wn, self%rot)
     if (allocated(self%s)) deallocate(self%s)
-    if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, self%state_step, self%fresh, &
+    if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, self%fresh, &
                                                  self%fault)
     if (allocated(self%trac)) deallocate(self%trac, self%trac_step, self%jump, self%jump_step)
     if (allocated(self%edge)) deallocate(self%edge)

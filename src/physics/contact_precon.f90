@@ -26,7 +26,7 @@ module contact_precon
   use global_csr, only: global_csr_t, from_csr, to_csr, gcsr_multiply, gcsr_add
   use amg_params, only: amg_params_t
   use precon, only: precon_t
-  use boomeramg_precon, only: boomeramg_precon_t
+  use precon_factory, only: precon_params_t, make_and_setup
   use jacobi_precon, only: jacobi_precon_t
   use negated_precon, only: negated_precon_t
   use inner_cg_precon, only: inner_cg_precon_t
@@ -65,6 +65,7 @@ contains
     type(amg_params_t), intent(in) :: amg
     type(error_status_t), intent(inout) :: status
     class(precon_t), allocatable :: p
+    type(precon_params_t) :: params
     real(rp) :: t0
     t0 = wall_time()
     if (.not. self%ready) then
@@ -72,11 +73,8 @@ contains
       call self%bp%init(phys%sys, 'contact-'//trim(ccfg%block))
       call from_csr(phys%sys%a(phys%bu, phys%bt), self%gc1)
       if (self%variant == 'classical') then
-        allocate(boomeramg_precon_t :: p)
-        select type (p)
-        type is (boomeramg_precon_t)
-          call p%setup(phys%sys%a(phys%bu, phys%bu), amg, status)
-        end select
+        params%amg = amg
+        call make_and_setup('boomeramg', p, phys%sys%a(phys%bu, phys%bu), params, status)
         if (.not. status%ok()) return
         call move_alloc(p, self%bp%s(phys%bu)%p)
         call scale_rows_by_diagonal(phys%sys%a(phys%bu, phys%bu), self%gc1)
@@ -105,7 +103,7 @@ contains
     type(error_status_t), intent(inout) :: status
     type(global_csr_t) :: gc2, gtt, prod, negs
     class(precon_t), allocatable :: p
-    type(amg_params_t) :: amg_s
+    type(precon_params_t) :: params
     call from_csr(phys%sys%a(phys%bt, phys%bu), gc2)
     call from_csr(phys%sys%a(phys%bt, phys%bt), gtt)
     call gcsr_multiply(gc2, self%gc1, prod)
@@ -113,22 +111,11 @@ contains
     call self%s%free()
     call to_csr(negs, phys%t%map, self%s)
     self%nnz_schur = self%s%global_nnz()
-    if (ccfg%schur_precon == 'jacobi') then
-      allocate(jacobi_precon_t :: p)
-      select type (p)
-      type is (jacobi_precon_t)
-        call p%setup(self%s, status)
-      end select
-    else
-      amg_s = amg
-      amg_s%num_functions = 1
-      amg_s%strong_threshold = 0.25_rp
-      allocate(boomeramg_precon_t :: p)
-      select type (p)
-      type is (boomeramg_precon_t)
-        call p%setup(self%s, amg_s, status)
-      end select
-    end if
+    ! -S is a scalar (one unknown per row) operator
+    params%amg = amg
+    params%amg%num_functions = 1
+    params%amg%strong_threshold = 0.25_rp
+    call make_and_setup(ccfg%schur_precon, p, self%s, params, status)
     if (.not. status%ok()) return
     call replace_negated(self%bp%s(phys%bt)%p, p)
   end subroutine classical_schur
@@ -144,6 +131,7 @@ contains
     type(global_csr_t) :: gc2, prod, sstar
     real(rp), allocatable :: h(:)
     class(precon_t), allocatable :: p, w
+    type(precon_params_t) :: params
     integer(ip) :: i, k
     !> tolerance and cap of the inner CG of schur_solve = 'inner_cg'
     real(rp), parameter :: inner_rtol = 1.0e-10_rp
@@ -167,11 +155,8 @@ contains
     call self%s%free()
     call to_csr(sstar, phys%mech%u%map, self%s)
     self%nnz_schur = self%s%global_nnz()
-    allocate(boomeramg_precon_t :: p)
-    select type (p)
-    type is (boomeramg_precon_t)
-      call p%setup(self%s, amg, status)
-    end select
+    params%amg = amg
+    call make_and_setup('boomeramg', p, self%s, params, status)
     if (.not. status%ok()) return
     if (ccfg%schur_solve == 'inner_cg') then
       allocate(inner_cg_precon_t :: w)

@@ -251,11 +251,8 @@ contains
     type(error_status_t), intent(inout) :: status
     real(rp), allocatable :: u_old(:), q_loc(:), rhs_u(:), p_old(:)
     real(rp) :: xe(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, qe(24), ae(6, 6), be(6), b
-    integer(ip) :: c, a, q, j, dofs(24), faces(6), r, nu, nq, i, f, k, u0, u1, q0, q1, p0, p1
-    real(rp) :: dsum, dcount
-    type(parallel_comm_t) :: comm
+    integer(ip) :: c, a, q, j, dofs(24), faces(6), r, nu, nq, i, f, u0, u1, q0, q1, p0, p1
 
-    comm = mesh%comm
     call self%sys%zero()
     call self%sys%block_range(iu, u0, u1)
     call self%sys%block_range(iq, q0, q1)
@@ -348,7 +345,34 @@ contains
     call self%qd%map%export_add(q_loc)
     self%rhs(q0:q1) = q_loc(1:self%qd%n_owned())
 
-    ! prescribed fluxes: scaled identity rows
+    call prescribed_flux_rows(self, t_new, q0)
+    call old_state_and_norms(self, mesh, u0, u1, p0, p1)
+  contains
+    !> Prescribed flux through local face f at t_new [m^3/s].
+    real(rp) function flux_value(f)
+      integer(ip), intent(in) :: f
+      flux_value = prescribed_flux(self, f, t_new)
+    end function flux_value
+  end subroutine assemble
+
+  !> Prescribed flux through local face f at time t [m^3/s].
+  real(rp) function prescribed_flux(self, f, t)
+    type(poromechanics_t), intent(in) :: self
+    integer(ip), intent(in) :: f
+    real(rp), intent(in) :: t
+    prescribed_flux = self%q_value(f)
+    if (self%face_bc(f) > 0) prescribed_flux = prescribed_flux * self%bcs(self%face_bc(f))%factor(t)
+  end function prescribed_flux
+
+  !> Rows of prescribed fluxes: a scaled identity (the mean diagonal of the
+  !> free rows of A) with the flux at t_new on the right-hand side.
+  !> Collective.
+  subroutine prescribed_flux_rows(self, t_new, q0)
+    type(poromechanics_t), intent(inout) :: self
+    real(rp), intent(in) :: t_new
+    integer(ip), intent(in) :: q0
+    real(rp) :: dsum, dcount
+    integer(ip) :: f, k
     dsum = 0.0_rp
     dcount = 0.0_rp
     do f = 1, self%qd%n_owned()
@@ -357,30 +381,34 @@ contains
       dsum = dsum + self%sys%a(iq, iq)%val(k)
       dcount = dcount + 1.0_rp
     end do
-    dsum = comm%sum(dsum)
-    dcount = comm%sum(dcount)
+    dsum = self%qd%map%comm%sum(dsum)
+    dcount = self%qd%map%comm%sum(dcount)
     self%a_scale = 1.0_rp
     if (dcount > 0.0_rp) self%a_scale = dsum / dcount
     do f = 1, self%qd%n_owned()
       if (.not. self%q_fixed(f)) cycle
       k = self%sys%a(iq, iq)%find(f, f)
       self%sys%a(iq, iq)%val(k) = self%a_scale
-      self%rhs(q0 + f - 1) = self%a_scale * flux_value(f)
+      self%rhs(q0 + f - 1) = self%a_scale * prescribed_flux(self, f, t_new)
     end do
+  end subroutine prescribed_flux_rows
 
-    ! the previous state in the mass balance: Q^T u_old (free columns) + P p_old
-    block
-      real(rp), allocatable :: tmp(:)
-      allocate(tmp(p1 - p0 + 1))
-      call self%sys%apply_block(ipr, iu, self%x_old(u0:u1), tmp)
-      self%rhs(p0:p1) = self%rhs(p0:p1) + tmp
-      do c = 1, mesh%cell_map%n_owned
-        self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) + self%vol(c) * self%inv_m(mesh%cell_region(c)) * &
-                               self%x_old(p0 + c - 1)
-      end do
-    end block
-
-    ! row norms of A (the scaled-Laplacian Schur approximation needs them)
+  !> The previous state's terms of the mass balance (Q^T u_old on the free
+  !> columns, P p_old) and the row norms of A (for the scaled-Laplacian
+  !> Schur approximation, ghosts imported). Collective.
+  subroutine old_state_and_norms(self, mesh, u0, u1, p0, p1)
+    type(poromechanics_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: u0, u1, p0, p1
+    real(rp), allocatable :: tmp(:)
+    integer(ip) :: c, f
+    allocate(tmp(p1 - p0 + 1))
+    call self%sys%apply_block(ipr, iu, self%x_old(u0:u1), tmp)
+    self%rhs(p0:p1) = self%rhs(p0:p1) + tmp
+    do c = 1, mesh%cell_map%n_owned
+      self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) + self%vol(c) * self%inv_m(mesh%cell_region(c)) * &
+                             self%x_old(p0 + c - 1)
+    end do
     self%a_norm = 0.0_rp
     do f = 1, self%qd%n_owned()
       associate (am => self%sys%a(iq, iq))
@@ -388,14 +416,7 @@ contains
       end associate
     end do
     call self%qd%map%import(self%a_norm)
-  contains
-    !> Prescribed flux through local face f at t_new [m^3/s].
-    real(rp) function flux_value(f)
-      integer(ip), intent(in) :: f
-      flux_value = self%q_value(f)
-      if (self%face_bc(f) > 0) flux_value = flux_value * self%bcs(self%face_bc(f))%factor(t_new)
-    end function flux_value
-  end subroutine assemble
+  end subroutine old_state_and_norms
 
   !> The explicit approximation of the pressure Schur complement
   !>   S = P + S_K + dt S_A,  S_K = diag(b^2 |c| / K_dr) (fixed stress),

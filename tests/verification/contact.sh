@@ -22,7 +22,7 @@ deck() {  # name, source deck, sed expressions
   sed -e "s#dir = 'out'#dir = '$out'#" -e "s#prefix = '[a-z_]*'#prefix = '$name'#" "$@" "$src" > "$out/$name.nml"
 }
 run() {  # name, ranks
-  if timeout 600 mpirun --oversubscribe -np "$2" bin/geoblock "$out/$1.nml" > "$out/$1.log" 2>&1 < /dev/null; then
+  if timeout 600 mpirun --oversubscribe -np "$2" bin/geoblock "$out/$1.nml" > "$out/$1.stdout" 2>&1 < /dev/null; then
     return 0
   fi
   ko "run $1 on $2 rank(s), see $out/$1.log"

@@ -81,8 +81,9 @@ program test_elasticity
   use material_config, only: material_config_t
   use boundary_config, only: boundary_config_t
   use vector_function, only: vector_function_t
-  use solver_config, only: solver_config_t
-  use amg_params, only: amg_params_t
+  use precon, only: precon_t
+  use precon_factory, only: precon_params_t, make_and_setup
+  use linear_system, only: linear_system_t
   use linear_solver, only: linear_solver_t
   use krylov, only: solve_info_t
   use quadrature, only: gauss_hex
@@ -165,24 +166,32 @@ contains
     call suite%assert_true(st%ok(), 'problem set-up n = '//trim(itoa(n))//': '//trim(st%msg))
   end subroutine setup_problem
 
+  !> Solve K x = f by method ('cg', 'fgmres' with BoomerAMG, or 'mumps')
+  !> through the project's linear-solve path.
   subroutine solve(phys, method, rtol, x, info)
-    type(elasticity_t), intent(inout) :: phys
+    type(elasticity_t), intent(inout), target :: phys
     character(len=*), intent(in) :: method
     real(rp), intent(in) :: rtol
-    real(rp), intent(out) :: x(:)
+    real(rp), intent(inout), target :: x(:)
     type(solve_info_t), intent(out) :: info
-    type(solver_config_t) :: cfg
-    type(amg_params_t) :: amg
+    type(precon_params_t) :: params
+    class(precon_t), allocatable, target :: pc
     type(linear_solver_t) :: ls
+    type(linear_system_t) :: sys
     type(error_status_t) :: st
-    cfg%method = method
-    cfg%precon = 'boomeramg'
-    cfg%rtol = rtol
-    call ls%init(comm, cfg, amg, st)
-    call ls%setup(phys%k, st, symmetric=.true.)
+    call ls%init(comm, method, rtol, 0.0_rp, 1000, 100, st)
+    sys%a => phys%k
+    sys%b => phys%rhs
+    sys%x => x
+    sys%symmetric = .true.
+    if (.not. ls%is_direct()) then
+      call make_and_setup('boomeramg', pc, phys%k, params, st)
+      sys%m => pc
+    end if
     x = 0.0_rp
-    call ls%solve(phys%k, phys%rhs, x, info)
+    call ls%solve(sys, info)
     call ls%free()
+    if (allocated(pc)) call pc%free()
   end subroutine solve
 
   subroutine patch_test()

@@ -1,5 +1,5 @@
 !> The benchmarks' reference cost: one CG solve of K u = f (a mechanics block
-!> and its right-hand side) with BoomerAMG, to the tolerance of &solver.
+!> and its right-hand side) with BoomerAMG, to the tolerance of the run.
 !> Its iterations and times are logged, its solution is thrown away; the
 !> benchmark scripts divide the coupled solve by it.
 module elastic_reference
@@ -8,7 +8,6 @@ module elastic_reference
   use error_status, only: error_status_t
   use logger, only: logger_t
   use csr_matrix, only: csr_matrix_t
-  use solver_config, only: solver_config_t
   use amg_params, only: amg_params_t
   use precon, only: precon_t
   use boomeramg_precon, only: boomeramg_precon_t
@@ -25,12 +24,14 @@ contains
   !> Solve k u = b once with CG. When p is a BoomerAMG preconditioner of k it
   !> is used as it is; otherwise one is set up with amg (and freed).
   !> A zero b is replaced by ones so that the solve is not empty.
-  subroutine solve_elastic_reference(comm, log, k, b, scfg, amg, p)
+  !> rtol, max_iter: the CG tolerance (relative) and iteration cap.
+  subroutine solve_elastic_reference(comm, log, k, b, rtol, max_iter, amg, p)
     type(parallel_comm_t), intent(inout) :: comm
     type(logger_t), intent(inout) :: log
     type(csr_matrix_t), intent(inout) :: k
     real(rp), intent(in) :: b(:)
-    type(solver_config_t), intent(in) :: scfg
+    real(rp), intent(in) :: rtol
+    integer, intent(in) :: max_iter
     type(amg_params_t), intent(in) :: amg
     class(precon_t), intent(inout), optional :: p
     type(cg_t) :: solver
@@ -45,7 +46,7 @@ contains
     rhs = b
     if (pnorm2(comm, rhs) == 0.0_rp) rhs = 1.0_rp
     x = 0.0_rp
-    call solver%init(comm, scfg%rtol, 0.0_rp, scfg%max_iter)
+    call solver%init(comm, rtol, 0.0_rp, max_iter)
     given = .false.
     if (present(p)) then
       select type (p)

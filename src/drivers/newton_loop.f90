@@ -1,0 +1,166 @@
+!> The one Newton / active-set loop of every physics, and the one linear-
+!> solve path it uses: for one (sub-)step, up to sim%max_newton iterations
+!> of assemble -> linear system -> solve -> update, until the physics says
+!> the step has converged. A linear physics (max_newton = 1) is one pass.
+!>
+!> A failure the driver may answer with a smaller step (the linear solver
+!> did not converge, a NaN, a preconditioner that could not be built, the
+!> iterations ran out) comes back as converged = .false. with a reason; an
+!> error that a smaller step cannot mend (assembly, an update that failed)
+!> comes back in status.
+module newton_loop
+  use kinds, only: rp, msg_len, path_len
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use status_sync, only: agree
+  use logger, only: logger_t
+  use timer_set, only: timer_set_t
+  use strings, only: itoa
+  use krylov, only: solve_info_t
+  use linear_system, only: linear_system_t
+  use linear_solver, only: linear_solver_t
+  use elastic_reference, only: solve_elastic_reference
+  use residual_history, only: residual_history_t
+  use system_export, only: export_system
+  use simulation, only: simulation_t, step_stats_t
+  implicit none
+  private
+
+  public :: newton_loop_t
+
+  type :: newton_loop_t
+    type(linear_solver_t) :: ls
+    type(linear_system_t) :: sys
+    type(residual_history_t) :: history
+    logical :: reference_done = .false.          !< the elastic reference solve was made
+    character(len=path_len) :: export_base = ''  !< export the next system to <base>_K.mtx, _rhs.mtx ('' none)
+  contains
+    procedure :: init
+    procedure :: solve_step
+    procedure :: free
+    procedure, private :: solve_linear
+  end type newton_loop_t
+
+contains
+
+  !> The linear solver of sim's &solver; the residual history file at
+  !> history_path; export_base: export the first system there ('' none).
+  subroutine init(self, comm, sim, history_path, export_base, status)
+    class(newton_loop_t), intent(inout) :: self
+    type(parallel_comm_t), intent(in) :: comm
+    class(simulation_t), intent(in) :: sim
+    character(len=*), intent(in) :: history_path, export_base
+    type(error_status_t), intent(inout) :: status
+    associate (s => sim%solver)
+      call self%ls%init(comm, s%method, s%rtol, s%atol, s%max_iter, s%restart, status)
+    end associate
+    call self%history%open(comm, history_path)
+    self%export_base = export_base
+  end subroutine init
+
+  !> Iterate step `step` (sub-step from sim's accepted state to time t,
+  !> begun by sim%begin_step) to convergence. stats accumulates the step's
+  !> figures (over sub-steps too); timers the run's. Collective; converged,
+  !> why and status are the same on every rank.
+  subroutine solve_step(self, sim, log, timers, step, t, stats, converged, why, status)
+    class(newton_loop_t), intent(inout) :: self
+    class(simulation_t), intent(inout), target :: sim
+    type(logger_t), intent(inout) :: log
+    type(timer_set_t), intent(inout) :: timers
+    integer, intent(in) :: step
+    real(rp), intent(in) :: t
+    type(step_stats_t), intent(inout) :: stats
+    logical, intent(out) :: converged
+    character(len=*), intent(out) :: why
+    type(error_status_t), intent(inout) :: status
+    real(rp) :: secs
+    integer :: it, its
+    converged = .false.
+    why = ''
+    call self%ls%begin_step()
+    do it = 1, sim%max_newton
+      call timers%start('assembly')
+      call sim%assemble(status)
+      call timers%stop('assembly', secs)
+      stats%t_assembly = stats%t_assembly + secs
+      call agree(sim%comm, status)
+      if (.not. status%ok()) return
+      call self%solve_linear(sim, log, timers, step, t, it, stats, its, why)
+      if (len_trim(why) > 0) return
+      call sim%update(it, its, log, converged, why, status)
+      stats%newton = stats%newton + 1
+      call agree(sim%comm, status)
+      if (.not. status%ok() .or. converged) return
+    end do
+    if (sim%max_newton > 1) why = 'the Newton / active-set loop did not converge in '//itoa(sim%max_newton)// &
+      ' iterations ('//trim(why)//')'
+  end subroutine solve_step
+
+  !> The linear system of iteration it: set up by the physics, exported or
+  !> measured against the elastic reference if asked, solved in its
+  !> iterations. why is set when the solve failed (empty otherwise).
+  !> Collective.
+  subroutine solve_linear(self, sim, log, timers, step, t, it, stats, its, why)
+    class(newton_loop_t), intent(inout) :: self
+    class(simulation_t), intent(inout), target :: sim
+    type(logger_t), intent(inout) :: log
+    type(timer_set_t), intent(inout) :: timers
+    integer, intent(in) :: step, it
+    real(rp), intent(in) :: t
+    type(step_stats_t), intent(inout) :: stats
+    integer, intent(out) :: its                   !< iterations of the solve
+    character(len=*), intent(out) :: why
+    type(error_status_t) :: status
+    type(solve_info_t) :: info
+    logical :: has_nan
+    why = ''
+    its = 0
+    call timers%start('preconditioner setup')
+    call sim%linear_system(self%ls%is_direct(), self%sys, log, status)
+    call timers%stop('preconditioner setup')
+    stats%t_setup = stats%t_setup + self%sys%setup_time
+    if (.not. status%ok()) then
+      why = status%msg
+      return
+    end if
+    if (len_trim(self%export_base) > 0) then
+      call export_system(sim%comm, self%sys, trim(self%export_base), status)
+      if (status%ok()) call log%info('matrix and right-hand side written to '//trim(self%export_base)//'_K.mtx and '// &
+                                     trim(self%export_base)//'_rhs.mtx')
+      if (.not. status%ok()) call log%fatal(sim%comm, status%msg)
+      self%export_base = ''
+    end if
+    if (sim%solver%elastic_reference .and. .not. self%reference_done .and. associated(self%sys%k_ref)) then
+      call solve_elastic_reference(sim%comm, log, self%sys%k_ref, self%sys%b_ref, sim%solver%rtol, &
+                                   sim%solver%max_iter, sim%amg, self%sys%m_ref)
+      self%reference_done = .true.
+    end if
+    call timers%start('solve')
+    call self%ls%solve(self%sys, info)
+    call timers%stop('solve')
+    call self%ls%report_factorization(log)
+    stats%t_setup = stats%t_setup + self%ls%t_factor
+    stats%t_solve = stats%t_solve + info%solve_time
+    its = info%iterations
+    stats%linear_its = stats%linear_its + info%iterations
+    stats%rel_res = info%rel_res
+    if (allocated(info%history)) call self%history%write(step, t, it, info%history)
+    has_nan = sim%comm%any_true(any(self%sys%x /= self%sys%x))
+    if (has_nan) then
+      why = 'the linear solver returned NaN: '//trim(info%msg)
+    else if (.not. info%converged) then
+      if (sim%solver%fail_on_no_convergence) then
+        why = 'the linear solver did not converge: '//trim(info%msg)
+      else
+        call log%warn('step '//itoa(step)//': the linear solver did not converge: '//trim(info%msg))
+      end if
+    end if
+  end subroutine solve_linear
+
+  subroutine free(self)
+    class(newton_loop_t), intent(inout) :: self
+    call self%ls%free()
+    call self%history%close()
+    call self%sys%reset()
+  end subroutine free
+end module newton_loop

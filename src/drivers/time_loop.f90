@@ -1,0 +1,192 @@
+!> The one time loop of every physics: the run's preamble (&mesh, the
+!> physics' deck groups, the distributed mesh, the physics' set-up, the
+!> output), then the steps of the schedule, each solved by the Newton loop
+!> and, when it fails, cut in half up to sim%max_cuts times; a progress
+!> line per step, the fields every &output every steps, a timing summary.
+!> Every error stops all ranks with one message (logger%fatal).
+module time_loop
+  use kinds, only: rp, msg_len, path_len
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use status_sync, only: agree
+  use logger, only: logger_t
+  use timer_set, only: timer_set_t
+  use strings, only: itoa, rtoa
+  use state_record, only: state_record_t
+  use deck, only: deck_t
+  use run_config, only: run_config_t
+  use mesh_config, only: mesh_config_t
+  use mesh_builder, only: build_mesh
+  use dist_mesh, only: dist_mesh_t
+  use field_output, only: field_output_t
+  use simulation, only: simulation_t, step_stats_t
+  use step_schedule, only: step_schedule_t
+  use newton_loop, only: newton_loop_t
+  implicit none
+  private
+
+  public :: run_simulation
+
+  !> What the loop carries from step to step.
+  type :: run_state_t
+    type(step_schedule_t) :: schedule
+    type(newton_loop_t) :: newton
+    type(field_output_t) :: out
+    type(timer_set_t) :: timers
+    type(state_record_t) :: saved        !< the last accepted state (restored by a cut)
+    real(rp) :: t = 0.0_rp               !< time (load factor) of the last accepted state
+  end type run_state_t
+
+contains
+
+  !> Run the simulation sim (made by simulation_factory from &run physics)
+  !> of deck d. Stops collectively on any error.
+  subroutine run_simulation(comm, log, d, run, sim)
+    type(parallel_comm_t), intent(inout) :: comm
+    type(logger_t), intent(inout) :: log
+    type(deck_t), intent(in) :: d
+    type(run_config_t), intent(in) :: run
+    class(simulation_t), intent(inout), target :: sim
+    type(dist_mesh_t), target :: mesh
+    type(run_state_t) :: rs
+    type(step_stats_t) :: stats
+    integer :: step
+    character(len=msg_len) :: line
+
+    call rs%timers%start('total')
+    call prepare(comm, log, d, run, sim, mesh, rs)
+    step = rs%schedule%first_step()
+    do
+      stats = step_stats_t(step=step, n_steps=rs%schedule%known_steps())
+      if (.not. rs%schedule%next(step, rs%t, stats%t, stats%dt)) exit
+      call advance(comm, log, sim, rs, stats)
+      call sim%report_step(stats, line)
+      call log%info(line)
+      if (run%fields .and. (mod(step, run%every) == 0 .or. step <= 1 .or. rs%schedule%is_last(step, rs%t))) &
+        call write_step(comm, log, sim, rs)
+      step = step + 1
+    end do
+    call sim%finish(log)
+    if (run%fields) call log%info('output: '//trim(rs%out%path())//' (open it in ParaView)')
+    call log%info('residual histories: '//rs%newton%history%path)
+    call rs%timers%stop('total')
+    call rs%timers%report(comm, log)
+    call rs%newton%free()
+    call rs%out%free()
+    call sim%free()
+    call mesh%free()
+  end subroutine run_simulation
+
+  !> The preamble: deck groups, mesh, set-up, output, solver. Collective.
+  subroutine prepare(comm, log, d, run, sim, mesh, rs)
+    type(parallel_comm_t), intent(inout) :: comm
+    type(logger_t), intent(inout) :: log
+    type(deck_t), intent(in) :: d
+    type(run_config_t), intent(in) :: run
+    class(simulation_t), intent(inout), target :: sim
+    type(dist_mesh_t), intent(inout), target :: mesh
+    type(run_state_t), intent(inout) :: rs
+    type(mesh_config_t) :: mcfg
+    type(error_status_t) :: status
+    character(len=path_len) :: base
+    call mcfg%read(d, log, status)
+    sim%comm = comm
+    if (status%ok()) call sim%read_deck(d, mcfg, log, status)
+    if (status%ok() .and. sim%transient) call run%check_transient(d, sim%name(), status)
+    if (.not. status%ok()) call log%fatal(comm, status%msg)
+    call rs%schedule%init(run, sim%transient)
+
+    call rs%timers%start('mesh')
+    call build_mesh(comm, mcfg, log, mesh, status, sim%faults)
+    call rs%timers%stop('mesh')
+    if (.not. status%ok()) call log%fatal(comm, status%msg)
+    call sim%setup(mesh, log, status)
+    call agree(comm, status)
+    if (.not. status%ok()) call log%fatal(comm, status%msg)
+
+    if (run%fields) then
+      call rs%out%init(mesh, run%out_dir, run%prefix, status)
+      if (status%ok()) call sim%open_output(rs%out, status)
+      if (.not. status%ok()) call log%fatal(comm, status%msg)
+    end if
+    base = trim(run%out_dir)//'/'//trim(run%prefix)
+    call rs%newton%init(comm, sim, trim(base)//'_residuals.csv', trim(merge(base, repeat(' ', path_len), &
+                        run%export_matrix)), status)
+    if (.not. status%ok()) call log%fatal(comm, status%msg)
+  end subroutine prepare
+
+  !> Solve one nominal step (stats%t: its end, stats%dt: its size) from the
+  !> accepted state rs%t: sub-steps of the current size until stats%t is
+  !> reached, the size halved after a failure (at most sim%max_cuts times).
+  !> Collective; stops the run when a step cannot be solved.
+  subroutine advance(comm, log, sim, rs, stats)
+    type(parallel_comm_t), intent(inout) :: comm
+    type(logger_t), intent(inout) :: log
+    class(simulation_t), intent(inout), target :: sim
+    type(run_state_t), intent(inout) :: rs
+    type(step_stats_t), intent(inout) :: stats
+    type(error_status_t) :: status
+    real(rp) :: t_target, dl, t_new, dt
+    logical :: converged
+    character(len=msg_len) :: why
+    t_target = stats%t
+    dl = stats%dt
+    do
+      ! a sub-step of size dl; the one that reaches the target ends on it
+      dt = dl
+      t_new = rs%t + dl
+      if (t_new >= t_target) then
+        t_new = t_target
+        if (stats%cuts > 0) dt = t_target - rs%t
+      end if
+      call sim%save_state(rs%saved)
+      call sim%begin_step(t_new, dt, status)
+      if (status%ok()) call rs%newton%solve_step(sim, log, rs%timers, stats%step, t_new, stats, converged, why, status)
+      call agree(comm, status)
+      if (.not. status%ok()) call log%fatal(comm, 'step '//itoa(stats%step)//': '//trim(status%msg))
+      if (converged) then
+        call sim%accept_step()
+        rs%t = t_new
+        stats%dt = dt
+        if (rs%t >= t_target * (1.0_rp - 1.0e-12_rp)) exit
+        cycle
+      end if
+      call sim%load_state(rs%saved, status)
+      if (.not. status%ok()) call log%fatal(comm, 'step '//itoa(stats%step)//': '//trim(status%msg))
+      if (stats%cuts >= sim%max_cuts) call fail_step(comm, log, sim, stats, t_new, why)
+      stats%cuts = stats%cuts + 1
+      call log%warn('step '//itoa(stats%step)//': no convergence at t = '//trim(rtoa(t_new))//' ('//trim(why)// &
+                    '); the step is cut in half')
+      dl = 0.5_rp * dl
+    end do
+  end subroutine advance
+
+  !> Stop the run: step stats%step could not be solved at time t (why).
+  subroutine fail_step(comm, log, sim, stats, t, why)
+    type(parallel_comm_t), intent(inout) :: comm
+    type(logger_t), intent(inout) :: log
+    class(simulation_t), intent(in) :: sim
+    type(step_stats_t), intent(in) :: stats
+    real(rp), intent(in) :: t
+    character(len=*), intent(in) :: why
+    if (sim%max_cuts == 0) call log%fatal(comm, 'step '//itoa(stats%step)//': '//trim(why))
+    call log%fatal(comm, 'step '//itoa(stats%step)//' (t = '//trim(rtoa(t))//'): no convergence after '// &
+      itoa(stats%cuts)//' step cuts: '//trim(why)//' (raise max_newton or max_cuts in &'//trim(sim%name())// &
+      ', or use more steps in &time)')
+  end subroutine fail_step
+
+  !> The fields of the accepted step at time rs%t. Collective.
+  subroutine write_step(comm, log, sim, rs)
+    type(parallel_comm_t), intent(inout) :: comm
+    type(logger_t), intent(inout) :: log
+    class(simulation_t), intent(inout) :: sim
+    type(run_state_t), intent(inout) :: rs
+    type(error_status_t) :: status
+    call rs%timers%start('output')
+    call rs%out%begin_step(rs%t, status)
+    if (status%ok()) call sim%write_output(rs%out, status)
+    if (status%ok()) call rs%out%end_step(status)
+    call rs%timers%stop('output')
+    if (.not. status%ok()) call log%fatal(comm, status%msg)
+  end subroutine write_step
+end module time_loop

@@ -1,0 +1,289 @@
+!> physics = 'contact': elasticity with frictional faults (contact.f90) in
+!> quasi-static load steps. Each step is an active-set loop whose iterations
+!> are Newton steps on the current statuses (stick, slip, open), each a
+!> block solve for the update: FGMRES on the scaled system with a contact
+!> block preconditioner (contact_precon.f90), or MUMPS. The driver halves a
+!> step whose loop does not converge in max_newton iterations (max_cuts
+!> times, from &contact).
+module contact_simulation
+  use kinds, only: rp, ip, gp, name_len, msg_len
+  use parallel_comm, only: parallel_comm_t, wall_time
+  use error_status, only: error_status_t
+  use status_sync, only: agree
+  use logger, only: logger_t
+  use strings, only: itoa, rtoa
+  use state_record, only: state_record_t
+  use linear_system, only: linear_system_t
+  use dist_vector, only: pnorm2
+  use deck, only: deck_t
+  use mesh_config, only: mesh_config_t
+  use contact_config, only: contact_config_t
+  use fault_config, only: read_faults, load_fault_histories
+  use dist_mesh, only: dist_mesh_t
+  use field_output, only: field_output_t
+  use fracture_output, only: fracture_output_t
+  use contact, only: contact_t
+  use contact_precon, only: contact_precon_t
+  use simulation, only: simulation_t, step_stats_t
+  implicit none
+  private
+
+  public :: contact_simulation_t
+
+  type, extends(simulation_t) :: contact_simulation_t
+    type(contact_t) :: phys
+    type(contact_config_t) :: ccfg                  !< &contact
+    type(contact_precon_t) :: cpc
+    type(fracture_output_t) :: fout
+    real(rp), allocatable :: dx(:)                  !< Newton update of the block vector
+    real(rp), allocatable :: dsc(:)                 !< scaling of the block system
+    real(rp) :: lf = 0.0_rp                         !< load factor of the step
+  contains
+    procedure :: name
+    procedure :: read_deck
+    procedure :: setup
+    procedure :: open_output
+    procedure :: begin_step
+    procedure :: assemble
+    procedure :: linear_system
+    procedure :: update
+    procedure :: save_state
+    procedure :: load_state
+    procedure :: write_output
+    procedure :: report_step
+    procedure :: finish
+    procedure :: free
+  end type contact_simulation_t
+
+contains
+
+  function name(self) result(s)
+    class(contact_simulation_t), intent(in) :: self
+    character(len=name_len) :: s
+    s = 'contact'
+  end function name
+
+  !> The shared groups, &contact and the &fault groups (with their pressure
+  !> histories); the linear solver must suit a saddle point.
+  subroutine read_deck(self, d, mcfg, log, status)
+    class(contact_simulation_t), intent(inout) :: self
+    type(deck_t), intent(in) :: d
+    type(mesh_config_t), intent(in) :: mcfg
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    call self%read_common(d, log, status, 'block', flow_conditions=.false., with_faults=.true.)
+    if (status%ok()) call self%ccfg%read(d, log, status)
+    if (status%ok()) call read_faults(d, log, self%faults, status, mcfg%source)
+    if (status%ok()) call load_fault_histories(self%comm, self%faults, status)
+    if (.not. status%ok()) return
+    self%max_newton = self%ccfg%max_newton
+    self%max_cuts = self%ccfg%max_cuts
+    if (self%solver%method == 'cg') then
+      call status%set("deck '"//trim(d%path)//"', group &solver, variable method: "// &
+        "the contact system is a saddle point: use 'fgmres' or 'mumps'")
+    else if (size(self%faults) == 0) then
+      call status%set("deck '"//trim(d%path)//"': physics = 'contact' needs at least one &fault group")
+    end if
+  end subroutine read_deck
+
+  !> Split nodes, tractions, patterns and the stabilization; the rigid-body
+  !> check. The tractions come first in the block system for the reordered
+  !> and augmented preconditioners. Collective.
+  subroutine setup(self, mesh, log, status)
+    class(contact_simulation_t), intent(inout), target :: self
+    type(dist_mesh_t), intent(in), target :: mesh
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    self%mesh => mesh
+    call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
+                        self%solver%method /= 'mumps' .and. self%ccfg%block /= 'classical', status)
+    call agree(self%comm, status)
+    if (.not. status%ok()) return
+    call self%phys%mech%check_anchored(self%comm, status)
+    if (.not. status%ok()) return
+    call log%info('unknowns: u '//itoa(int(self%phys%mech%u%map%n_global))//', t '// &
+      itoa(int(self%phys%t%map%n_global))//' ('//itoa(int(mesh%iface_map%n_global))//' interface elements, '// &
+      itoa(int(self%comm%sum(self%phys%n_edges)))//' stabilization edge entries)')
+    if (self%solver%method == 'mumps') then
+      call log%info('linear solver: MUMPS (direct) at every Newton iteration')
+    else
+      call log%info('linear solver: FGMRES with the '//trim(self%ccfg%block)//' block preconditioner')
+    end if
+    allocate(self%dx(size(self%phys%x)), self%dsc(size(self%phys%x)))
+  end subroutine setup
+
+  !> The 'fractures' grid beside the mesh. Collective.
+  subroutine open_output(self, out, status)
+    class(contact_simulation_t), intent(inout) :: self
+    type(field_output_t), intent(inout) :: out
+    type(error_status_t), intent(inout) :: status
+    call self%fout%init(out, self%mesh, status)
+  end subroutine open_output
+
+  !> Load factor t: the step's start is remembered (the slip increments and
+  !> the stick conditions are measured from it), the prescribed displacements
+  !> imposed, K and the loads assembled.
+  subroutine begin_step(self, t, dt, status)
+    class(contact_simulation_t), intent(inout) :: self
+    real(rp), intent(in) :: t, dt
+    type(error_status_t), intent(inout) :: status
+    self%lf = t
+    call self%phys%begin_step(t)
+    call self%phys%assemble_stiffness(self%mesh, t)
+    call self%phys%take_solution(self%mesh)
+  end subroutine begin_step
+
+  !> The contact rows of the Jacobian and the residual at the iterate.
+  subroutine assemble(self, status)
+    class(contact_simulation_t), intent(inout) :: self
+    type(error_status_t), intent(inout) :: status
+    call self%phys%assemble_newton(self%mesh)
+  end subroutine assemble
+
+  !> J dx = -r for the update (from zero); the block preconditioner follows
+  !> the statuses, so it is refreshed at every iteration.
+  subroutine linear_system(self, direct, sys, log, status)
+    class(contact_simulation_t), intent(inout), target :: self
+    logical, intent(in) :: direct
+    type(linear_system_t), intent(inout) :: sys
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    real(rp) :: t0
+    integer(ip) :: u0, u1
+    call sys%reset()
+    self%dx = 0.0_rp
+    sys%a => self%phys%sys
+    sys%b => self%phys%rhs
+    sys%x => self%dx
+    if (direct) return
+    t0 = wall_time()
+    call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status)
+    call agree(self%comm, status)
+    if (.not. status%ok()) then
+      status%msg = 'preconditioner set-up: '//trim(status%msg)
+      return
+    end if
+    call scaling(self)
+    sys%m => self%cpc%bp
+    sys%d => self%dsc
+    sys%setup_time = wall_time() - t0
+    call self%phys%sys%block_range(self%phys%bu, u0, u1)
+    sys%k_ref => self%phys%sys%a(self%phys%bu, self%phys%bu)
+    sys%b_ref => self%phys%rhs(u0:u1)
+  end subroutine linear_system
+
+  !> Symmetric scaling 1/sqrt of the diagonal of K (u rows) and of H~ (t rows).
+  subroutine scaling(self)
+    type(contact_simulation_t), intent(inout) :: self
+    integer(ip) :: u0, u1, t0, t1
+    call self%phys%sys%block_range(self%phys%bu, u0, u1)
+    call self%phys%sys%block_range(self%phys%bt, t0, t1)
+    call self%phys%sys%a(self%phys%bu, self%phys%bu)%diagonal(self%dsc(u0:u1))
+    call self%phys%ht_diagonal(self%mesh, 1.0_rp, .true., self%dsc(t0:t1))
+    self%dsc = 1.0_rp / sqrt(abs(self%dsc))
+  end subroutine scaling
+
+  !> x += dx, the new jumps and tractions, the active-set update; converged
+  !> when no status changed and (with slip) the update is small.
+  subroutine update(self, iteration, linear_its, log, converged, why, status)
+    class(contact_simulation_t), intent(inout) :: self
+    integer, intent(in) :: iteration, linear_its
+    type(logger_t), intent(inout) :: log
+    logical, intent(out) :: converged
+    character(len=*), intent(out) :: why
+    type(error_status_t), intent(inout) :: status
+    integer(gp) :: changed, n(3)
+    integer(ip) :: u0, u1, t0, t1
+    real(rp) :: du, dt
+    character(len=msg_len) :: line
+    associate (phys => self%phys, comm => self%comm)
+      call phys%sys%block_range(phys%bu, u0, u1)
+      call phys%sys%block_range(phys%bt, t0, t1)
+      phys%x = phys%x + self%dx
+      call phys%take_solution(self%mesh)
+      changed = phys%update_states(self%mesh, self%ccfg%status_tol)
+      du = pnorm2(comm, self%dx(u0:u1)) / max(pnorm2(comm, phys%x(u0:u1)), tiny(1.0_rp))
+      dt = pnorm2(comm, self%dx(t0:t1)) / max(pnorm2(comm, phys%x(t0:t1)), tiny(1.0_rp))
+      n = phys%count_states(self%mesh)
+    end associate
+    write(line, '(a,i3,a,i5,a,es9.2,a,es9.2,a,i0,a,3(i0,a))') '  newton ', iteration, '  linear its ', linear_its, &
+      '  |du|/|u| ', du, &
+      '  |dt|/|t| ', dt, '  status changes ', changed, '  stick/slip/open ', n(1), '/', n(2), '/', n(3), ''
+    call log%detail(line)
+    converged = changed == 0 .and. (n(2) == 0 .or. (du <= self%ccfg%newton_tol .and. dt <= self%ccfg%newton_tol))
+    why = ''
+    if (.not. converged) write(why, '(a,i0,a,es9.2,a,es9.2)') 'last iteration: ', changed, &
+      ' status changes, |du|/|u| ', du, ', |dt|/|t| ', dt
+  end subroutine update
+
+  !> The block vector (displacements and tractions) and the statuses; the
+  !> rest follows from them.
+  subroutine save_state(self, st)
+    class(contact_simulation_t), intent(inout) :: self
+    type(state_record_t), intent(inout) :: st
+    call st%put('x', self%phys%x)
+    call st%put('status', self%phys%state)
+  end subroutine save_state
+
+  subroutine load_state(self, st, status)
+    class(contact_simulation_t), intent(inout) :: self
+    type(state_record_t), intent(in) :: st
+    type(error_status_t), intent(inout) :: status
+    call st%get('x', self%phys%x, status)
+    call st%get('status', self%phys%state, status)
+    self%phys%fresh = .false.
+    call self%phys%take_solution(self%mesh)
+  end subroutine load_state
+
+  !> displacement, stress, region, rank (mesh grid) and the fault fields
+  !> (fractures grid, fracture_output.f90).
+  subroutine write_output(self, out, status)
+    class(contact_simulation_t), intent(inout) :: self
+    type(field_output_t), intent(inout) :: out
+    type(error_status_t), intent(inout) :: status
+    real(rp), allocatable :: stress(:,:)
+    allocate(stress(6, self%mesh%cell_map%n_owned))
+    call self%phys%mech%cell_stress(self%mesh, self%phys%u, stress)
+    call out%write_displacement(self%mesh, self%phys%u, status)
+    if (status%ok()) call out%writer%cell_field('stress', stress, status)
+    call out%write_mesh_ids(self%mesh, status)
+    if (status%ok()) call self%fout%write_step(out, self%mesh, self%phys%trac, self%phys%jump, self%phys%state, &
+                                                self%phys%rot, status)
+  end subroutine write_output
+
+  subroutine report_step(self, stats, line)
+    class(contact_simulation_t), intent(inout) :: self
+    type(step_stats_t), intent(in) :: stats
+    character(len=*), intent(out) :: line
+    integer(gp) :: n(3)
+    n = self%phys%count_states(self%mesh)
+    write(line, '(a,i0,a,i0,a,f6.3,a,i3,a,i5,a,3(i0,a),a,es10.3,a,f8.3,a,f8.3,a)') 'load step ', stats%step, '/', &
+      stats%n_steps, '  load ', stats%t, '  newton ', stats%newton, '  linear its ', stats%linear_its, &
+      '  stick/slip/open ', n(1), '/', n(2), '/', n(3), '', '  max slip ', max_slip(self), ' m  setup ', &
+      stats%t_setup, ' s  solve ', stats%t_solve, ' s'
+  end subroutine report_step
+
+  !> Largest tangential jump over the faults [m]. Collective.
+  real(rp) function max_slip(self)
+    type(contact_simulation_t), intent(in) :: self
+    integer(ip) :: e
+    max_slip = 0.0_rp
+    do e = 1, self%mesh%iface_map%n_owned
+      max_slip = max(max_slip, norm2(self%phys%jump(2:3, e)))
+    end do
+    max_slip = self%comm%max(max_slip)
+  end function max_slip
+
+  subroutine finish(self, log)
+    class(contact_simulation_t), intent(inout) :: self
+    type(logger_t), intent(inout) :: log
+    call log%info("the faults are the grid 'fractures' of the output")
+  end subroutine finish
+
+  subroutine free(self)
+    class(contact_simulation_t), intent(inout) :: self
+    call self%cpc%free()
+    call self%phys%free()
+    if (allocated(self%dx)) deallocate(self%dx, self%dsc)
+  end subroutine free
+end module contact_simulation

@@ -1,0 +1,217 @@
+!> physics = 'elasticity': quasi-static linear elasticity in load steps
+!> (loads and prescribed displacements grow linearly to their full value at
+!> the last step), one linear solve per step: CG or FGMRES with a
+!> preconditioner of K from the factory (BoomerAMG by default), or MUMPS.
+!> K does not depend on the load, so its preconditioner (or factorization)
+!> is set up once.
+module elastic_simulation
+  use kinds, only: rp, ip, gp, name_len, msg_len
+  use parallel_comm, only: wall_time
+  use error_status, only: error_status_t
+  use status_sync, only: agree
+  use logger, only: logger_t
+  use strings, only: itoa, rtoa
+  use state_record, only: state_record_t
+  use precon, only: precon_t
+  use precon_factory, only: precon_params_t, make_precon, setup_precon, report_precon
+  use linear_system, only: linear_system_t
+  use dist_vector, only: pmax_abs
+  use deck, only: deck_t
+  use mesh_config, only: mesh_config_t
+  use dist_mesh, only: dist_mesh_t
+  use field_output, only: field_output_t
+  use elasticity, only: elasticity_t
+  use simulation, only: simulation_t, step_stats_t
+  implicit none
+  private
+
+  public :: elastic_simulation_t
+
+  type, extends(simulation_t) :: elastic_simulation_t
+    type(elasticity_t) :: mech
+    real(rp), allocatable :: x(:)              !< owned displacements [m]
+    real(rp), allocatable :: u_loc(:)          !< local displacements, ghosts imported [m]
+    class(precon_t), allocatable :: pc         !< preconditioner of K (Krylov methods)
+    logical :: pc_ready = .false.
+    logical :: solved = .false.                !< K has been handed to a solver (it does not change)
+    real(rp) :: t = 0.0_rp                     !< load factor of the step
+  contains
+    procedure :: name
+    procedure :: read_deck
+    procedure :: setup
+    procedure :: begin_step
+    procedure :: assemble
+    procedure :: linear_system
+    procedure :: update
+    procedure :: save_state
+    procedure :: load_state
+    procedure :: write_output
+    procedure :: report_step
+    procedure :: finish
+    procedure :: free
+  end type elastic_simulation_t
+
+contains
+
+  function name(self) result(s)
+    class(elastic_simulation_t), intent(in) :: self
+    character(len=name_len) :: s
+    s = 'elasticity'
+  end function name
+
+  !> &material, &boundary, &solver, &amg, &afsai (the shared groups).
+  subroutine read_deck(self, d, mcfg, log, status)
+    class(elastic_simulation_t), intent(inout) :: self
+    type(deck_t), intent(in) :: d
+    type(mesh_config_t), intent(in) :: mcfg
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    call self%read_common(d, log, status, 'boomeramg', flow_conditions=.false., with_faults=.false.)
+  end subroutine read_deck
+
+  !> The displacement dofs, K's pattern, the rigid-body check and the
+  !> preconditioner's type. Collective.
+  subroutine setup(self, mesh, log, status)
+    class(elastic_simulation_t), intent(inout), target :: self
+    type(dist_mesh_t), intent(in), target :: mesh
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    self%mesh => mesh
+    call self%mech%init(mesh, self%mats, self%bcs, status)
+    call agree(self%comm, status)
+    if (.not. status%ok()) return
+    call self%mech%check_anchored(self%comm, status)
+    if (.not. status%ok()) return
+    call log%info('displacement dofs: '//itoa(int(self%mech%u%map%n_global))//', matrix non-zeros: '// &
+                  itoa(int(self%mech%k%global_nnz())))
+    allocate(self%x(self%mech%u%n_owned()), self%u_loc(self%mech%u%n_local()))
+    self%x = 0.0_rp
+    self%u_loc = 0.0_rp
+    if (self%solver%method == 'mumps') then
+      call log%info('linear solver: MUMPS direct solver')
+    else
+      call make_precon(self%solver%precon, self%pc, status)
+      if (status%ok()) call log%info('linear solver: '//trim(self%solver%method)//' + '//trim(self%pc%name()))
+    end if
+  end subroutine setup
+
+  !> Load factor t: the boundary conditions' histories at t.
+  subroutine begin_step(self, t, dt, status)
+    class(elastic_simulation_t), intent(inout) :: self
+    real(rp), intent(in) :: t, dt
+    type(error_status_t), intent(inout) :: status
+    self%t = t
+    call self%mech%set_time(t)
+  end subroutine begin_step
+
+  !> K and the right-hand side at the step's load factor.
+  subroutine assemble(self, status)
+    class(elastic_simulation_t), intent(inout) :: self
+    type(error_status_t), intent(inout) :: status
+    call self%mech%assemble(self%mesh, self%t)
+  end subroutine assemble
+
+  !> K u = f for the displacements, from the last step's as initial guess;
+  !> the preconditioner of K is set up at the first step only.
+  subroutine linear_system(self, direct, sys, log, status)
+    class(elastic_simulation_t), intent(inout), target :: self
+    logical, intent(in) :: direct
+    type(linear_system_t), intent(inout) :: sys
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    type(precon_params_t) :: params
+    integer(gp), allocatable :: keys(:)
+    real(rp) :: t0
+    call sys%reset()
+    sys%a => self%mech%k
+    sys%b => self%mech%rhs
+    sys%x => self%x
+    sys%symmetric = .true.
+    sys%changed = .not. self%solved
+    self%solved = .true.
+    if (direct) return
+    if (.not. self%pc_ready) then
+      t0 = wall_time()
+      params%amg = self%amg
+      params%fsai = self%fsai%precon
+      call self%mesh%node_keys(3, keys)
+      call setup_precon(self%pc, self%mech%k, params, status, symmetric=.true., keys=keys)
+      sys%setup_time = wall_time() - t0
+      call agree(self%comm, status)
+      if (status%ok()) call report_precon(self%pc, self%mech%k, log, status)
+      if (.not. status%ok()) return
+      self%pc_ready = .true.
+    end if
+    sys%m => self%pc
+  end subroutine linear_system
+
+  !> The solved displacements with their ghosts; a linear step is done.
+  subroutine update(self, iteration, linear_its, log, converged, why, status)
+    class(elastic_simulation_t), intent(inout) :: self
+    integer, intent(in) :: iteration, linear_its
+    type(logger_t), intent(inout) :: log
+    logical, intent(out) :: converged
+    character(len=*), intent(out) :: why
+    type(error_status_t), intent(inout) :: status
+    self%u_loc(1:size(self%x)) = self%x
+    call self%mech%u%map%import(self%u_loc)
+    converged = .true.
+    why = ''
+  end subroutine update
+
+  subroutine save_state(self, st)
+    class(elastic_simulation_t), intent(inout) :: self
+    type(state_record_t), intent(inout) :: st
+    call st%put('displacement', self%x)
+  end subroutine save_state
+
+  subroutine load_state(self, st, status)
+    class(elastic_simulation_t), intent(inout) :: self
+    type(state_record_t), intent(in) :: st
+    type(error_status_t), intent(inout) :: status
+    call st%get('displacement', self%x, status)
+    self%u_loc(1:size(self%x)) = self%x
+    call self%mech%u%map%import(self%u_loc)
+  end subroutine load_state
+
+  !> displacement [m] per node; stress [Pa] (Tensor6 xx xy xz yy yz zz,
+  !> tension positive), region and rank per cell.
+  subroutine write_output(self, out, status)
+    class(elastic_simulation_t), intent(inout) :: self
+    type(field_output_t), intent(inout) :: out
+    type(error_status_t), intent(inout) :: status
+    real(rp), allocatable :: stress(:,:)
+    allocate(stress(6, self%mesh%cell_map%n_owned))
+    call self%mech%cell_stress(self%mesh, self%u_loc, stress)
+    call out%write_displacement(self%mesh, self%u_loc, status)
+    if (status%ok()) call out%writer%cell_field('stress', stress, status)
+    call out%write_mesh_ids(self%mesh, status)
+  end subroutine write_output
+
+  subroutine report_step(self, stats, line)
+    class(elastic_simulation_t), intent(inout) :: self
+    type(step_stats_t), intent(in) :: stats
+    character(len=*), intent(out) :: line
+    write(line, '(a,i0,a,i0,a,f6.3,a,i5,a,es9.2,a,f8.3,a,f8.3,a,f8.3,a)') 'step ', stats%step, '/', stats%n_steps, &
+      '  load ', stats%t, '  iterations ', stats%linear_its, '  rel. residual ', stats%rel_res, &
+      '  assembly ', stats%t_assembly, ' s  setup ', stats%t_setup, ' s  solve ', stats%t_solve, ' s'
+  end subroutine report_step
+
+  subroutine finish(self, log)
+    class(elastic_simulation_t), intent(inout) :: self
+    type(logger_t), intent(inout) :: log
+    call log%info('max |u| = '//rtoa(pmax_abs(self%comm, self%x))//' m')
+  end subroutine finish
+
+  subroutine free(self)
+    class(elastic_simulation_t), intent(inout) :: self
+    if (allocated(self%pc)) then
+      call self%pc%free()
+      deallocate(self%pc)
+    end if
+    call self%mech%free()
+    if (allocated(self%x)) deallocate(self%x, self%u_loc)
+    self%pc_ready = .false.
+    self%solved = .false.
+  end subroutine free
+end module elastic_simulation

@@ -1,0 +1,275 @@
+!> The simulation contract: what every physics provides so that one driver
+!> (src/drivers: one time loop with step cuts, one Newton / active-set loop,
+!> one linear-solve path) runs it. A driver knows this type, never a
+!> concrete physics; simulation_factory maps the deck's name to a type.
+!>
+!> Life of a simulation, as the driver calls it:
+!>
+!>   read_deck(d, mcfg)               its deck groups (read_common reads the ones
+!>                                every physics shares), validated and echoed;
+!>                                sets faults (surfaces the mesh must split),
+!>                                transient, max_newton, max_cuts
+!>   setup(mesh)                  unknowns, blocks, patterns, checks
+!>   open_output(out)             grids of its own beside the mesh grid
+!>   per step (t_old -> t, dt):
+!>     save_state(st)             what a step cut restores (and a checkpoint keeps)
+!>     begin_step(t, dt)          loads and prescribed values at t
+!>     Newton / active-set loop, it = 1 .. max_newton:
+!>       assemble()               Jacobian and right-hand side at the iterate
+!>       linear_system(sys)       the system to solve: views of its operator,
+!>                                rhs, unknown, preconditioner (set up or
+!>                                refreshed here), scaling
+!>       (the driver solves it)
+!>       update(it, converged)    take the solution, update the active set,
+!>                                say whether the step has converged
+!>     accept_step()  or  load_state(st) and a smaller step
+!>     report_step(stats)         its progress line
+!>     write_output(out)          its fields of the step
+!>   finish(log)                  closing lines of the run
+!>
+!> A linear physics (max_newton = 1) solves for its state in one iteration;
+!> a nonlinear one solves for updates. Each physics states its own progress
+!> line (report_step) from the figures the driver measured (step_stats_t).
+module simulation
+  use kinds, only: rp, name_len, msg_len
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use logger, only: logger_t
+  use state_record, only: state_record_t
+  use linear_system, only: linear_system_t
+  use amg_params, only: amg_params_t
+  use deck, only: deck_t
+  use mesh_config, only: mesh_config_t
+  use solver_config, only: solver_config_t
+  use amg_config, only: read_amg_config
+  use fsai_config, only: fsai_config_t
+  use material_config, only: material_config_t, read_materials
+  use boundary_config, only: boundary_config_t, read_boundaries, load_histories
+  use fault_config, only: fault_config_t
+  use dist_mesh, only: dist_mesh_t
+  use field_output, only: field_output_t
+  implicit none
+  private
+
+  public :: simulation_t, step_stats_t
+
+  !> What the driver measured over one step (all its Newton iterations and,
+  !> when it was cut, all its sub-steps), for the physics' progress line.
+  type :: step_stats_t
+    integer :: step = 0                  !< step number (0: the initial, e.g. undrained, step)
+    integer :: n_steps = 0               !< steps of the run when known in advance (load steps), else 0
+    real(rp) :: t = 0.0_rp               !< time (load factor for load steps) at the end of the step
+    real(rp) :: dt = 0.0_rp              !< the step's size (of its last sub-step when cut)
+    integer :: newton = 0                !< Newton / active-set iterations
+    integer :: linear_its = 0            !< linear iterations, summed
+    integer :: cuts = 0                  !< halvings of the step
+    real(rp) :: rel_res = 0.0_rp         !< relative residual of the last linear solve
+    real(rp) :: t_assembly = 0.0_rp      !< seconds: assembly
+    real(rp) :: t_setup = 0.0_rp         !< seconds: preconditioner set-up and factorizations
+    real(rp) :: t_solve = 0.0_rp         !< seconds: linear solves
+  end type step_stats_t
+
+  type, abstract :: simulation_t
+    type(parallel_comm_t) :: comm                          !< set by the driver before read_deck
+    type(dist_mesh_t), pointer :: mesh => null()          !< set by setup; owned by the driver
+    type(solver_config_t) :: solver                        !< &solver
+    type(amg_params_t) :: amg                              !< &amg
+    type(fsai_config_t) :: fsai                            !< &afsai, &block_fsai
+    type(material_config_t), allocatable :: mats(:)        !< &material groups
+    type(boundary_config_t), allocatable :: bcs(:)         !< &boundary groups (histories loaded)
+    type(fault_config_t), allocatable :: faults(:)         !< surfaces the mesh must split (&fault)
+    logical :: transient = .false.                         !< time steps (dt, t_end) rather than load steps
+    integer :: max_newton = 1                              !< iterations per step (1: linear)
+    integer :: max_cuts = 0                                !< halvings of a step that does not converge
+  contains
+    procedure(name_iface), deferred :: name
+    procedure(read_deck_iface), deferred :: read_deck
+    procedure(setup_iface), deferred :: setup
+    procedure(begin_step_iface), deferred :: begin_step
+    procedure(assemble_iface), deferred :: assemble
+    procedure(linear_system_iface), deferred :: linear_system
+    procedure(update_iface), deferred :: update
+    procedure(save_state_iface), deferred :: save_state
+    procedure(load_state_iface), deferred :: load_state
+    procedure(write_output_iface), deferred :: write_output
+    procedure(report_step_iface), deferred :: report_step
+    procedure(free_iface), deferred :: free
+    procedure :: read_common
+    procedure :: open_output
+    procedure :: accept_step
+    procedure :: finish
+  end type simulation_t
+
+  abstract interface
+    !> The physics' name, as &run physics gives it.
+    function name_iface(self) result(s)
+      import :: simulation_t, name_len
+      class(simulation_t), intent(in) :: self
+      character(len=name_len) :: s
+    end function name_iface
+
+    !> Read, check and echo the deck groups of the physics (all but &run,
+    !> &time, &output and &mesh, which the driver reads; mcfg is &mesh, for
+    !> checks that depend on the kind of mesh). Collective: status is the
+    !> same on every rank.
+    subroutine read_deck_iface(self, d, mcfg, log, status)
+      import :: simulation_t, deck_t, mesh_config_t, logger_t, error_status_t
+      class(simulation_t), intent(inout) :: self
+      type(deck_t), intent(in) :: d
+      type(mesh_config_t), intent(in) :: mcfg
+      type(logger_t), intent(inout) :: log
+      type(error_status_t), intent(inout) :: status
+    end subroutine read_deck_iface
+
+    !> Unknowns, blocks, patterns and checks on mesh (kept by pointer); log
+    !> the sizes. Collective; status may differ between ranks (the driver
+    !> makes it agree).
+    subroutine setup_iface(self, mesh, log, status)
+      import :: simulation_t, dist_mesh_t, logger_t, error_status_t
+      class(simulation_t), intent(inout), target :: self
+      type(dist_mesh_t), intent(in), target :: mesh
+      type(logger_t), intent(inout) :: log
+      type(error_status_t), intent(inout) :: status
+    end subroutine setup_iface
+
+    !> Start a step from the accepted state to time (or load factor) t with
+    !> step size dt (0 for an initial instantaneous step): loads, prescribed
+    !> values and histories at t. Collective.
+    subroutine begin_step_iface(self, t, dt, status)
+      import :: simulation_t, rp, error_status_t
+      class(simulation_t), intent(inout) :: self
+      real(rp), intent(in) :: t, dt
+      type(error_status_t), intent(inout) :: status
+    end subroutine begin_step_iface
+
+    !> Jacobian and right-hand side at the current iterate. Collective.
+    subroutine assemble_iface(self, status)
+      import :: simulation_t, error_status_t
+      class(simulation_t), intent(inout) :: self
+      type(error_status_t), intent(inout) :: status
+    end subroutine assemble_iface
+
+    !> Fill sys with views of the system to solve now. Unless direct (a
+    !> direct solver factorizes the operator itself), set up or refresh the
+    !> preconditioner and scaling; sys%setup_time gets the seconds spent.
+    !> Collective; status is the same on every rank.
+    subroutine linear_system_iface(self, direct, sys, log, status)
+      import :: simulation_t, linear_system_t, logger_t, error_status_t
+      class(simulation_t), intent(inout), target :: self
+      logical, intent(in) :: direct
+      type(linear_system_t), intent(inout) :: sys
+      type(logger_t), intent(inout) :: log
+      type(error_status_t), intent(inout) :: status
+    end subroutine linear_system_iface
+
+    !> Take the solution of the linear system of iteration `iteration` of
+    !> the step (solved in linear_its iterations, for the log), update what depends on it (the active set), and say whether
+    !> the step has converged; why: what was still moving (for the message
+    !> of a step that fails). Collective; converged is the same everywhere.
+    subroutine update_iface(self, iteration, linear_its, log, converged, why, status)
+      import :: simulation_t, logger_t, error_status_t
+      class(simulation_t), intent(inout) :: self
+      integer, intent(in) :: iteration, linear_its
+      type(logger_t), intent(inout) :: log
+      logical, intent(out) :: converged
+      character(len=*), intent(out) :: why
+      type(error_status_t), intent(inout) :: status
+    end subroutine update_iface
+
+    !> Put into st every array the physics needs to resume from the last
+    !> accepted step.
+    subroutine save_state_iface(self, st)
+      import :: simulation_t, state_record_t
+      class(simulation_t), intent(inout) :: self
+      type(state_record_t), intent(inout) :: st
+    end subroutine save_state_iface
+
+    !> Go back to the state in st (made by save_state on this partition).
+    !> Collective.
+    subroutine load_state_iface(self, st, status)
+      import :: simulation_t, state_record_t, error_status_t
+      class(simulation_t), intent(inout) :: self
+      type(state_record_t), intent(in) :: st
+      type(error_status_t), intent(inout) :: status
+    end subroutine load_state_iface
+
+    !> Write the fields of the step into the open step of out. Collective.
+    subroutine write_output_iface(self, out, status)
+      import :: simulation_t, field_output_t, error_status_t
+      class(simulation_t), intent(inout) :: self
+      type(field_output_t), intent(inout) :: out
+      type(error_status_t), intent(inout) :: status
+    end subroutine write_output_iface
+
+    !> The progress line of a finished step. Collective (it may reduce).
+    subroutine report_step_iface(self, stats, line)
+      import :: simulation_t, step_stats_t
+      class(simulation_t), intent(inout) :: self
+      type(step_stats_t), intent(in) :: stats
+      character(len=*), intent(out) :: line
+    end subroutine report_step_iface
+
+    subroutine free_iface(self)
+      import :: simulation_t
+      class(simulation_t), intent(inout) :: self
+    end subroutine free_iface
+  end interface
+
+contains
+
+  !> Read the groups every physics shares: &material, &boundary (and their
+  !> history files), &solver (default_precon: the precon a physics defaults
+  !> to), &amg, &afsai and &block_fsai. flow_conditions: the physics has
+  !> pressure and flux boundary conditions; with_faults: it uses &fault
+  !> groups (others refuse them). Collective.
+  subroutine read_common(self, d, log, status, default_precon, flow_conditions, with_faults)
+    class(simulation_t), intent(inout) :: self
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    character(len=*), intent(in) :: default_precon
+    logical, intent(in) :: flow_conditions, with_faults
+    integer :: c
+    call read_materials(d, log, self%mats, status)
+    if (status%ok()) call read_boundaries(d, log, self%bcs, status)
+    if (status%ok()) then
+      self%solver%precon = default_precon
+      call self%solver%read(d, log, status)
+    end if
+    if (status%ok()) call read_amg_config(d, log, self%amg, status)
+    if (status%ok()) call self%fsai%read(d, log, status)
+    if (status%ok()) call load_histories(self%comm, self%bcs, status)
+    if (.not. status%ok()) return
+    if (.not. with_faults .and. d%count('fault') > 0) then
+      call status%set("deck '"//trim(d%path)//"': &fault groups need physics = 'contact' in &run")
+      return
+    end if
+    if (flow_conditions) return
+    do c = 1, size(self%bcs)
+      if (self%bcs(c)%type == 'pressure' .or. self%bcs(c)%type == 'flux') then
+        call status%set("&boundary on set '"//trim(self%bcs(c)%set)//"': type = '"//trim(self%bcs(c)%type)// &
+                        "' needs physics = 'biot' in &run")
+        return
+      end if
+    end do
+  end subroutine read_common
+
+  !> Add the physics' own grids to the output (default: none). Collective.
+  subroutine open_output(self, out, status)
+    class(simulation_t), intent(inout) :: self
+    type(field_output_t), intent(inout) :: out
+    type(error_status_t), intent(inout) :: status
+  end subroutine open_output
+
+  !> The step is accepted: the current state becomes the old state of the
+  !> next step (default: nothing to do).
+  subroutine accept_step(self)
+    class(simulation_t), intent(inout) :: self
+  end subroutine accept_step
+
+  !> Closing lines of the run (default: none). Collective.
+  subroutine finish(self, log)
+    class(simulation_t), intent(inout) :: self
+    type(logger_t), intent(inout) :: log
+  end subroutine finish
+end module simulation
