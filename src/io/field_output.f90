@@ -85,14 +85,11 @@ contains
     integer(ip), allocatable :: ids(:)
     integer(ip) :: nc
     nc = mesh%cell_map%n_owned
-    if (status%ok()) then
-      ids = mesh%cell_region(1:nc)
-      call self%writer%cell_field('region', ids, status)
-    end if
-    if (status%ok()) then
-      ids = mesh%cell_owner(1:nc)
-      call self%writer%cell_field('rank', ids, status)
-    end if
+    allocate(ids(nc))
+    ids(:) = mesh%cell_region(1:nc)
+    if (status%ok()) call self%writer%cell_field('region', ids, status)
+    ids(:) = mesh%cell_owner(1:nc)
+    if (status%ok()) call self%writer%cell_field('rank', ids, status)
   end subroutine write_mesh_ids
 
   !> Path of the XDMF file.
