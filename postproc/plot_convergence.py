@@ -1,8 +1,9 @@
 """Plot the residual history of every linear solve of a geoblock run.
 
 usage: /usr/bin/python3 postproc/plot_convergence.py [DIR] [PREFIX] [OUT.png]
-Reads DIR/PREFIX_residuals.csv (step, time, iteration, relative residual),
-written by the Biot driver; one curve per step."""
+Reads DIR/PREFIX_residuals.csv (step, time, newton, iteration, relative
+residual), written by every run; one curve per linear solve (a step's Newton
+iterations each have one), coloured by step."""
 import os
 import sys
 
@@ -20,15 +21,19 @@ def main():
     fig, ax = plt.subplots(figsize=(6, 4.2))
     steps = np.unique(data["step"]).astype(int)
     cmap = plt.get_cmap("viridis")
+    newton = data["newton"] if "newton" in data.dtype.names else np.ones(len(data))
+    n_solves = 0
     for k, s in enumerate(steps):
-        sel = data["step"] == s
-        if sel.sum() < 2:
-            continue
-        ax.semilogy(data["iteration"][sel], data["relative_residual"][sel], "-", lw=0.8,
-                    color=cmap(k / max(len(steps) - 1, 1)))
-    ax.set_xlabel("FGMRES iteration")
+        for it in np.unique(newton[data["step"] == s]):
+            sel = (data["step"] == s) & (newton == it)
+            if sel.sum() < 2:
+                continue
+            n_solves += 1
+            ax.semilogy(data["iteration"][sel], data["relative_residual"][sel], "-", lw=0.8,
+                        color=cmap(k / max(len(steps) - 1, 1)))
+    ax.set_xlabel("Krylov iteration")
     ax.set_ylabel("relative residual (scaled system)")
-    ax.set_title(f"{prefix}: {len(steps)} solves (colour: step)")
+    ax.set_title(f"{prefix}: {n_solves} solves in {len(steps)} steps (colour: step)")
     fig.tight_layout()
     fig.savefig(png, dpi=120)
     print(png)
