@@ -8,6 +8,7 @@ module logger
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use kinds, only: rp, msg_len, path_len
   use parallel_comm, only: parallel_comm_t
+  use os_services, only: end_process
   implicit none
   private
 
@@ -113,7 +114,8 @@ contains
     call to_file(self, 'warning: '//trim(msg))
   end subroutine warn
 
-  !> Collective stop: every rank calls it; rank 0 prints, all exit with status 2.
+  !> Collective stop: every rank calls it; rank 0 prints, all exit with status 2
+  !> (no run-time STOP line).
   subroutine fatal(self, comm, msg)
     class(logger_t), intent(inout) :: self
     type(parallel_comm_t), intent(inout) :: comm
@@ -126,7 +128,7 @@ contains
     call self%close()
     call comm%barrier()
     call comm%finalize()
-    stop 2
+    call end_process(2)
   end subroutine fatal
 
   !> Stop from one rank: prints with the rank number and aborts all ranks.

@@ -9,6 +9,8 @@ program geoblock
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
   use logger, only: logger_t
+  use status_sync, only: agree
+  use os_services, only: make_directory
   use strings, only: itoa
   use deck, only: deck_t
   use run_config, only: run_config_t
@@ -24,7 +26,7 @@ program geoblock
   type(error_status_t) :: status
   class(simulation_t), allocatable :: sim
   character(len=path_len) :: path
-  integer :: ios, estat
+  integer :: ios
 
   call comm%init_world()
   call log%init(comm)
@@ -48,15 +50,17 @@ program geoblock
   if (.not. status%ok()) call log%fatal(comm, status%msg)
   log%verbosity = run%verbosity
 
-  ! output directory and log file
-  estat = 0
+  ! output directory and log file (made by rank 0)
   if (comm%is_root()) then
-    call execute_command_line('mkdir -p "'//trim(run%out_dir)//'"', exitstat=estat, cmdstat=ios)
-    if (ios /= 0) estat = ios
-    if (estat == 0) call log%open_file(trim(run%out_dir)//'/'//trim(run%prefix)//'.log', estat)
+    call make_directory(trim(run%out_dir), status)
+    if (status%ok()) then
+      call log%open_file(trim(run%out_dir)//'/'//trim(run%prefix)//'.log', ios)
+      if (ios /= 0) call status%set("cannot write the log file '"//trim(run%out_dir)//'/'//trim(run%prefix)// &
+                                    ".log'")
+    end if
   end if
-  if (comm%any_true(estat /= 0)) &
-    call log%fatal(comm, "cannot create the output directory or log file in '"//trim(run%out_dir)//"'")
+  call agree(comm, status)
+  if (.not. status%ok()) call log%fatal(comm, 'output directory (&output dir): '//trim(status%msg))
 
   call log%info('geoblock: '//trim(run%title))
   call log%info('deck: '//trim(path)//', ranks: '//itoa(comm%size))
