@@ -4,8 +4,10 @@
 !> pressure_history) in time, linearly between the rows and constant
 !> outside them.
 module history_file
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use kinds, only: rp, msg_len
   use parallel_comm, only: parallel_comm_t
+  use os_services, only: path_kind, path_directory
   implicit none
   private
 
@@ -14,59 +16,19 @@ module history_file
 contains
 
   !> Read the history file path on rank 0 and broadcast it into hist_t and
-  !> hist_f. On failure msg says what is wrong (with the line) and the arrays
-  !> are not allocated; msg is blank on success. Collective.
+  !> hist_f. On failure msg says what is wrong (with the line), on every
+  !> rank alike, and the arrays are not allocated; msg is blank on success.
+  !> Collective.
   subroutine read_history(comm, path, hist_t, hist_f, msg)
     type(parallel_comm_t), intent(in) :: comm
     character(len=*), intent(in) :: path
     real(rp), allocatable, intent(out) :: hist_t(:), hist_f(:)
     character(len=msg_len), intent(out) :: msg
-    integer :: n, u, ios, line
-    real(rp) :: row(2)
     real(rp), allocatable :: t(:), f(:)
-    character(len=512) :: buf
+    integer :: n
     n = 0
     msg = ''
-    if (comm%is_root()) then
-      allocate(t(1024), f(1024))
-      open(newunit=u, file=trim(path), status='old', action='read', iostat=ios, iomsg=msg)
-      if (ios == 0) then
-        line = 0
-        do
-          read(u, '(a)', iostat=ios) buf
-          if (ios /= 0) exit
-          line = line + 1
-          buf = adjustl(buf)
-          if (len_trim(buf) == 0 .or. buf(1:1) == '#') cycle
-          read(buf, *, iostat=ios) row
-          if (ios /= 0) then
-            write(msg, '(a,i0,a)') 'line ', line, ': expected two numbers "time factor"'
-            exit
-          end if
-          if (n > 0) then
-            if (row(1) <= t(n)) then
-              write(msg, '(a,i0,a)') 'line ', line, ': times must increase'
-              ios = 1
-              exit
-            end if
-          end if
-          if (n == size(t)) then
-            t = [t, t]
-            f = [f, f]
-          end if
-          n = n + 1
-          t(n) = row(1)
-          f(n) = row(2)
-        end do
-        close(u)
-        if (ios < 0) ios = 0
-        if (ios == 0 .and. n == 0) then
-          msg = 'no rows'
-          ios = 1
-        end if
-      end if
-      if (ios /= 0) n = -1
-    end if
+    if (comm%is_root()) call read_rows(path, t, f, n, msg)
     call comm%bcast(n)
     if (n < 0) then
       call comm%bcast(msg)
@@ -80,6 +42,60 @@ contains
     call comm%bcast(hist_t)
     call comm%bcast(hist_f)
   end subroutine read_history
+
+  !> The rows of the file at path: n rows in t, f, or n = -1 and msg.
+  subroutine read_rows(path, t, f, n, msg)
+    character(len=*), intent(in) :: path
+    real(rp), allocatable, intent(out) :: t(:), f(:)
+    integer, intent(out) :: n
+    character(len=msg_len), intent(out) :: msg
+    integer :: u, ios, line
+    real(rp) :: row(2), extra(3)
+    character(len=1024) :: buf
+    n = -1
+    msg = ''
+    if (path_kind(path) == path_directory) then
+      msg = 'is a directory, not a file'
+      return
+    end if
+    open(newunit=u, file=trim(path), status='old', action='read', iostat=ios, iomsg=msg)
+    if (ios /= 0) return
+    allocate(t(1024), f(1024))
+    n = 0
+    line = 0
+    do
+      read(u, '(a)', iostat=ios) buf
+      if (ios /= 0) exit
+      line = line + 1
+      buf = adjustl(buf)
+      if (len_trim(buf) == 0 .or. buf(1:1) == '#') cycle
+      read(buf, *, iostat=ios) row
+      if (ios /= 0) then
+        write(msg, '(a,i0,a)') 'line ', line, ': expected two numbers "time factor"'
+      else
+        read(buf, *, iostat=ios) extra
+        if (ios == 0) then
+          write(msg, '(a,i0,a)') 'line ', line, ': more than two numbers (expected "time factor")'
+        else if (.not. all(ieee_is_finite(row))) then
+          write(msg, '(a,i0,a)') 'line ', line, ': a value is not a finite number'
+        else if (n > 0) then
+          if (row(1) <= t(n)) write(msg, '(a,i0,a)') 'line ', line, ': times must increase'
+        end if
+      end if
+      if (len_trim(msg) > 0) exit
+      if (n == size(t)) then
+        t = [t, t]
+        f = [f, f]
+      end if
+      n = n + 1
+      t(n) = row(1)
+      f(n) = row(2)
+    end do
+    if (ios > 0 .and. len_trim(msg) == 0) write(msg, '(a,i0)') 'cannot read line ', line + 1
+    close(u)
+    if (len_trim(msg) == 0 .and. n == 0) msg = 'no rows'
+    if (len_trim(msg) > 0) n = -1
+  end subroutine read_rows
 
   !> The factor of the history (hist_t, hist_f) at time t: linear between the
   !> rows, the first / last value before / after them.
