@@ -2,6 +2,7 @@
 # one, `make run` / `make test` / `make bench` install what is missing, build
 # and run.  Module dependencies are generated from the sources (tools/fdeps.sh).
 
+VERSION := 0.2.0
 BUILD ?= opt
 FC := mpif90
 NP ?= 2
@@ -56,8 +57,18 @@ debug:
 
 tests: $(TEST_BIN)
 
-$(EXE): $(call obj,$(MAIN_SRC)) $(LIBGB) | bin
+$(EXE): $(call obj,$(MAIN_SRC)) $(ODIR)/build_info.o $(LIBGB) | bin
 	$(FC) $(FFLAGS) -o $@ $^ $(LIBS)
+
+# version, git commit and library versions for `geoblock --version`
+# (regenerated at every make, rewritten only when it changes)
+BUILD_INFO := $(BDIR)/gen/build_info.f90
+$(BUILD_INFO): FORCE
+	@bash tools/build_info.sh $@
+FORCE:
+$(ODIR)/build_info.o: $(BUILD_INFO) | $(ODIR) $(MDIR)
+	$(FC) $(FFLAGS) $(INC) -c $< -o $@
+$(call obj,$(MAIN_SRC)): $(ODIR)/build_info.o
 
 bin/tests/%$(EXE_SUFFIX): $(ODIR)/%.o $(TEST_COMMON_OBJ) $(LIBGB) | bin/tests
 	$(FC) $(FFLAGS) -o $@ $^ $(LIBS)

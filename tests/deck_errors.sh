@@ -1,27 +1,36 @@
 #!/usr/bin/env bash
-# Bad input must stop geoblock on every rank with a message that names what is
-# wrong, a nonzero exit, no backtrace and no hang. Each tests/decks/bad_*.nml
-# starts with "! expect: TEXT", the text the message must contain.
+# Bad input must stop geoblock on every rank with exit status 2 and one line
+# "geoblock: error: ..." that names what is wrong: no backtrace, no compiler
+# note or STOP line, no hang (timeout). Each tests/decks/bad_*.nml starts with
+# "! expect: TEXT", the text the message must contain; command-line cases
+# follow the decks.
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-exe=bin/geoblock
+exe=${GEOBLOCK:-bin/geoblock}   # GEOBLOCK=bin/geoblock-debug runs the suite on the checked build
 pass=0; fail=0
-check() {  # name, ranks, deck, expected text
-  local name=$1 np=$2 deck=$3 expect=$4 out rc
-  out=$(timeout 120 mpirun --oversubscribe -np "$np" "$exe" "$deck" 2>&1 < /dev/null)
+check() {  # name, ranks, deck (or arguments), expected text
+  local name=$1 np=$2 deck=$3 expect=$4 out rc nerr
+  # shellcheck disable=SC2086
+  out=$(timeout 120 mpirun --oversubscribe -np "$np" "$exe" $deck 2>&1 < /dev/null)
   rc=$?
   if [ "$rc" -eq 124 ]; then
     echo "  FAIL  $name: hung (timeout)"; fail=$((fail + 1)); return
   fi
-  if [ "$rc" -eq 0 ]; then
-    echo "  FAIL  $name: exit status 0"; fail=$((fail + 1)); return
+  if [ "$rc" -ne 2 ]; then
+    echo "  FAIL  $name: exit status $rc, not 2"; echo "$out" | head -5 | sed 's/^/        /'
+    fail=$((fail + 1)); return
+  fi
+  nerr=$(grep -c '^geoblock: error: ' <<< "$out")
+  if [ "$nerr" -ne 1 ]; then
+    echo "  FAIL  $name: $nerr 'geoblock: error:' lines, not one"; echo "$out" | head -5 | sed 's/^/        /'
+    fail=$((fail + 1)); return
   fi
   if ! grep -qF -- "$expect" <<< "$out"; then
     echo "  FAIL  $name: message lacks \"$expect\""; echo "$out" | head -5 | sed 's/^/        /'
     fail=$((fail + 1)); return
   fi
-  if grep -qiE 'backtrace|#0 |SIGSEGV|Floating-point exception' <<< "$out"; then
+  if grep -qiE 'backtrace|#0 |SIGSEGV|Floating-point exception|^STOP|^ERROR STOP|^Note: ' <<< "$out"; then
     echo "  FAIL  $name: a backtrace or signal in the output"; fail=$((fail + 1)); return
   fi
   echo "  ok    $name ($np ranks): $(grep -m1 -F -- "$expect" <<< "$out" | cut -c1-150)"
@@ -34,12 +43,43 @@ for deck in tests/decks/bad_*.nml; do
   done
 done
 check missing_deck_file 2 tests/decks/no_such_deck.nml "cannot read deck 'tests/decks/no_such_deck.nml'"
-check no_argument 1 "" "usage: geoblock DECK.nml"
+check no_argument 1 "" "no deck given; usage: geoblock"
+check unknown_option 1 "--frobnicate tests/decks/good_base.nml" "unknown option '--frobnicate'"
+check two_decks 2 "tests/decks/good_base.nml tests/decks/good_base.nml" "more than one deck given"
+check long_argument 1 "$(printf 'd%.0s' $(seq 600))" "argument 1 is longer than 512 characters"
+check deck_is_directory 2 tests/decks "cannot read deck 'tests/decks': it is a directory"
+check check_bad_deck 2 "--check tests/decks/bad_nan_value.nml" "variable young: 'nan' is not a finite number"
+# --check reads a good deck, echoes it and runs nothing
+if out=$(timeout 120 mpirun --oversubscribe -np 2 "$exe" --check tests/decks/good_base.nml 2>&1 < /dev/null) && \
+   grep -q "is valid (physics elasticity); nothing was run" <<< "$out"; then
+  echo "  ok    --check of good_base: valid, nothing run"; pass=$((pass + 1))
+else
+  echo "  FAIL  --check of good_base"; fail=$((fail + 1))
+fi
+for opt in --help --version; do
+  if out=$(timeout 60 mpirun -np 1 "$exe" $opt 2>&1 < /dev/null) && grep -q "geoblock" <<< "$out"; then
+    echo "  ok    $opt: $(head -1 <<< "$out")"; pass=$((pass + 1))
+  else
+    echo "  FAIL  $opt"; fail=$((fail + 1))
+  fi
+done
 # the good base deck must run (guards against a reader that rejects everything)
 if timeout 120 mpirun --oversubscribe -np 2 "$exe" tests/decks/good_base.nml > /dev/null 2>&1; then
   echo "  ok    good_base runs"; pass=$((pass + 1))
 else
   echo "  FAIL  good_base does not run"; fail=$((fail + 1))
+fi
+# a quoted string continued on the next line is joined without padding
+mkdir -p build/test-out/deck_errors
+{ sed '/&output/,$d' tests/decks/good_base.nml
+  printf "&output\n  dir = 'build/test-out/deck_errors', prefix = 'joined_\npart', fields = .false.\n/\n"; } \
+  > build/test-out/deck_errors/continued.nml
+rm -f build/test-out/deck_errors/joined_part.log
+if timeout 120 mpirun -np 1 "$exe" build/test-out/deck_errors/continued.nml > /dev/null 2>&1 && \
+   [ -f build/test-out/deck_errors/joined_part.log ]; then
+  echo "  ok    a string continued over two lines is joined (prefix joined_part)"; pass=$((pass + 1))
+else
+  echo "  FAIL  a string continued over two lines: no build/test-out/deck_errors/joined_part.log"; fail=$((fail + 1))
 fi
 echo "suite deck_errors: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

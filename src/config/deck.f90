@@ -5,9 +5,18 @@
 !> &material, &boundary) and reads each block from an internal file. So every
 !> rank sees the same errors and can stop together. Error messages name the
 !> deck, the group, the line and, where it can be found, the variable.
+!>
+!> Two checks run on the text before any group is read, because a namelist
+!> read accepts what they catch without a word: every number must be finite
+!> (gfortran reads nan, inf and 1e400 into a real as NaN or Infinity, and
+!> the checked build traps on the last), and a
+!> character string continued on the next line is joined to its first line
+!> without the blanks that pad the stored line (the end of a record is not
+!> part of a continued string, Fortran 2008, 10.11.3.3).
 module deck
   use kinds, only: ip, rp, path_len, msg_len, name_len
   use parallel_comm, only: parallel_comm_t
+  use os_services, only: path_kind, path_directory
   use error_status, only: error_status_t
   use logger, only: logger_t
   implicit none
@@ -17,6 +26,7 @@ module deck
 
   integer, parameter :: line_len = 256
   integer, parameter :: echo_len = 1024    !< records of a namelist written for the log
+  character(len=*), parameter :: name_chars = 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_'
   !> Sentinels for values the deck did not set.
   real(rp), parameter :: unset_real = -huge(1.0_rp)
   integer, parameter :: unset_int = -huge(1)
@@ -41,6 +51,11 @@ module deck
   interface is_set
     module procedure is_set_real, is_set_int
   end interface is_set
+
+  !> A value written in a group, and the variable it is assigned to.
+  type :: value_token_t
+    character(len=:), allocatable :: text, var
+  end type value_token_t
 
 contains
 
@@ -70,7 +85,12 @@ contains
     msg = ''
     if (comm%is_root()) then
       allocate(tmp(256))
-      open(newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+      ios = 0
+      if (path_kind(path) == path_directory) then
+        ios = 1
+        msg = 'it is a directory'
+      end if
+      if (ios == 0) open(newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
       if (ios == 0) then
         do
           read(u, '(a)', iostat=ios, iomsg=msg) buf
@@ -100,8 +120,236 @@ contains
     do i = 1, n
       call comm%bcast(self%lines(i))
     end do
-    call split_groups(self, status)
+    call join_strings(self, status)
+    if (status%ok()) call split_groups(self, status)
+    if (status%ok()) call check_numbers(self, status)
   end subroutine load
+
+  !> A quoted string left open at the end of a line goes on at the start of
+  !> the next: that text is moved up to the first line (the rest of the next
+  !> line stays where it is, so line numbers keep their meaning).
+  subroutine join_strings(self, status)
+    type(deck_t), intent(inout) :: self
+    type(error_status_t), intent(inout) :: status
+    integer :: i, j, n
+    character :: q
+    character(len=msg_len) :: m
+    q = ' '
+    i = 1
+    do while (i <= size(self%lines))
+      n = len_trim(self%lines(i))
+      q = open_quote(self%lines(i), q)
+      if (q == ' ' .or. i == size(self%lines)) then
+        i = i + 1
+        cycle
+      end if
+      ! the next line up to the closing quote (or all of it) joins line i
+      j = index(self%lines(i + 1), q)
+      if (j == 0) j = len_trim(self%lines(i + 1))
+      if (n + j > line_len) then
+        write(m, '(a,i0,a,i0,a)') "deck '"//trim(self%path)//"', line ", i, &
+          ": a quoted string continued on the next line makes the line longer than ", line_len, " characters"
+        call status%set(m)
+        return
+      end if
+      self%lines(i)(n + 1:n + j) = self%lines(i + 1)(1:j)
+      self%lines(i + 1) = repeat(' ', j)//self%lines(i + 1)(j + 1:)
+      q = ' '
+      ! line i is scanned again: its string may now be closed, or another opened
+    end do
+  end subroutine join_strings
+
+  !> The quote character still open at the end of line s (' ' if none),
+  !> given the one open at its start; a '!' outside quotes ends the scan.
+  pure function open_quote(s, q0) result(q)
+    character(len=*), intent(in) :: s
+    character, intent(in) :: q0
+    character :: q
+    integer :: k
+    q = q0
+    do k = 1, len_trim(s)
+      if (q /= ' ') then
+        if (s(k:k) == q) q = ' '
+      else if (s(k:k) == '"' .or. s(k:k) == "'") then
+        q = s(k:k)
+      else if (s(k:k) == '!') then
+        return
+      end if
+    end do
+  end function open_quote
+
+  !> Every number in the groups must be finite: a value token that is nan,
+  !> inf or infinity (any case, signed or not), or a numeric literal that
+  !> overflows to infinity, is an error naming the group and the variable.
+  subroutine check_numbers(self, status)
+    type(deck_t), intent(inout) :: self
+    type(error_status_t), intent(inout) :: status
+    integer :: g, v
+    type(value_token_t), allocatable :: vals(:)
+    do g = 1, self%n_groups
+      call group_values(self, g, vals)
+      do v = 1, size(vals)
+        associate(tok => vals(v)%text)
+          if (non_finite_word(tok)) then
+            call self%fail(status, self%group_name(g), occurrence(self, g), vals(v)%var, &
+                           "'"//tok//"' is not a finite number")
+            return
+          end if
+          if (.not. numeric_literal(tok)) cycle
+          if (beyond_double(tok)) then
+            call self%fail(status, self%group_name(g), occurrence(self, g), vals(v)%var, &
+                           "'"//tok//"' is out of the range of double precision numbers")
+            return
+          end if
+        end associate
+      end do
+    end do
+  end subroutine check_numbers
+
+  !> The value tokens of group g (unquoted, outside comments; a repeat
+  !> count r* removed), each with the variable it is assigned to.
+  subroutine group_values(self, g, vals)
+    type(deck_t), intent(in) :: self
+    integer, intent(in) :: g
+    type(value_token_t), allocatable, intent(out) :: vals(:)
+    integer :: i, j, k, n
+    character :: q
+    character(len=line_len) :: ln
+    character(len=:), allocatable :: tok, var
+    allocate(vals(16))
+    n = 0
+    var = '?'
+    q = ' '
+    do i = self%group_first(g), self%group_last(g)
+      ln = self%lines(i)
+      j = 0
+      if (i == self%group_first(g)) then
+        ! skip '&' and the group's name
+        j = index(ln, '&')
+        do while (j < len_trim(ln))
+          if (index(name_chars, ln(j+1:j+1)) == 0) exit
+          j = j + 1
+        end do
+      end if
+      do while (j < len_trim(ln))
+        j = j + 1
+        if (q /= ' ') then
+          if (ln(j:j) == q) q = ' '
+          cycle
+        end if
+        if (ln(j:j) == '"' .or. ln(j:j) == "'") then
+          q = ln(j:j)
+          cycle
+        end if
+        if (ln(j:j) == '!' .or. ln(j:j) == '/') exit
+        if (index(' ,='//char(9), ln(j:j)) > 0) cycle
+        ! a token: up to the next separator
+        k = j
+        do while (k < len_trim(ln))
+          if (index(' ,=/!"'''//char(9), ln(k+1:k+1)) > 0) exit
+          k = k + 1
+        end do
+        tok = ln(j:k)
+        j = k
+        if (followed_by_equals(ln, k)) then
+          var = tok
+          if (index(var, '(') > 1) var = var(1:index(var, '(') - 1)
+          cycle
+        end if
+        if (index(tok, '*') > 0) tok = tok(index(tok, '*') + 1:)
+        if (len(tok) == 0) cycle
+        if (n == size(vals)) vals = [vals, vals]
+        n = n + 1
+        vals(n)%text = tok
+        vals(n)%var = var
+      end do
+    end do
+    vals = vals(1:n)
+  end subroutine group_values
+
+  !> Whether the numeric literal tok is larger in magnitude than the largest
+  !> double (about 1.8e308), found from its digits and exponent without
+  !> arithmetic that could overflow (the checked build traps overflow).
+  logical function beyond_double(tok)
+    character(len=*), intent(in) :: tok
+    character(len=len(tok)) :: t, mant
+    integer :: e, p, ios, expo, mag, k, first
+    real(rp) :: lead
+    beyond_double = .false.
+    t = lower(tok)
+    e = scan(t, 'ed')
+    expo = 0
+    mant = t
+    if (e > 0) then
+      read(t(e+1:), *, iostat=ios) expo
+      if (ios /= 0) return
+      mant = t(1:e-1)
+    end if
+    if (mant(1:1) == '+' .or. mant(1:1) == '-') mant = mant(2:)
+    p = index(mant, '.')
+    if (p == 0) p = len_trim(mant) + 1
+    ! magnitude: position of the first non-zero digit relative to the point
+    first = scan(mant, '123456789')
+    if (first == 0) return                      ! zero
+    if (first < p) then
+      mag = p - first - 1 + expo
+    else
+      mag = p - first + expo
+    end if
+    if (mag > 308) beyond_double = .true.
+    if (mag /= 308) return
+    ! 308: compare the leading digits d.ddd with 1.7976931348623157
+    lead = 0.0_rp
+    do k = len_trim(mant), first, -1
+      if (mant(k:k) == '.') cycle
+      lead = lead / 10.0_rp + real(iachar(mant(k:k)) - iachar('0'), rp)
+    end do
+    beyond_double = lead > 1.7976931348623157_rp
+  end function beyond_double
+
+  !> Whether tok reads as a number (digits, sign, point, exponent letter).
+  pure logical function numeric_literal(tok)
+    character(len=*), intent(in) :: tok
+    numeric_literal = .false.
+    if (len(tok) == 0) return
+    if (verify(tok(1:1), '+-.0123456789') /= 0) return
+    numeric_literal = verify(lower(tok), '+-.0123456789ed') == 0 .and. scan(tok, '0123456789') > 0
+  end function numeric_literal
+
+  !> Whether the token ending at position k of s is followed by '=' (then it
+  !> names a variable, possibly with an array section).
+  pure logical function followed_by_equals(s, k)
+    character(len=*), intent(in) :: s
+    integer, intent(in) :: k
+    integer :: e
+    followed_by_equals = .false.
+    e = k + 1
+    do while (e <= len_trim(s))
+      if (s(e:e) /= ' ' .and. s(e:e) /= char(9)) exit
+      e = e + 1
+    end do
+    if (e <= len_trim(s)) followed_by_equals = s(e:e) == '='
+  end function followed_by_equals
+
+  !> nan, inf, infinity with an optional sign or payload, any case.
+  pure logical function non_finite_word(tok)
+    character(len=*), intent(in) :: tok
+    character(len=len(tok)) :: t
+    integer :: b
+    t = lower(tok)
+    b = 1
+    if (t(1:1) == '+' .or. t(1:1) == '-') b = 2
+    non_finite_word = .false.
+    if (b > len(t)) return
+    non_finite_word = t(b:) == 'nan' .or. t(b:) == 'inf' .or. t(b:) == 'infinity' .or. index(t(b:), 'nan(') == 1
+  end function non_finite_word
+
+  !> Which occurrence of its name group g is (1 for the first).
+  integer function occurrence(self, g)
+    type(deck_t), intent(in) :: self
+    integer, intent(in) :: g
+    occurrence = count(self%group_name(1:g) == self%group_name(g))
+  end function occurrence
 
   !> Find the group blocks: from '&name' to the '/' that ends it (outside
   !> quotes and comments).
@@ -132,8 +380,7 @@ contains
           if (ch == '&') then
             k = j + 1
             do while (k <= len_trim(self%lines(i)))
-              if (index('abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_', &
-                        self%lines(i)(k:k)) == 0) exit
+              if (index(name_chars, self%lines(i)(k:k)) == 0) exit
               k = k + 1
             end do
             if (self%n_groups == cap) then
@@ -279,6 +526,10 @@ contains
     character(len=msg_len) :: m, where
     l0 = self%first_line(name, k)
     write(where, '(a,i0)') "deck '"//trim(self%path)//"', group &"//trim(name)//" (line ", l0
+    if (index(iomsg, 'Integer overflow') > 0) then
+      call integer_overflow(self, name, k, trim(where), status)
+      if (.not. status%ok()) return
+    end if
     p = index(iomsg, 'object name ')
     if (p == 0) then
       write(m, '(a,i0,a)') trim(where)//"): "//trim(iomsg)//" (iostat ", ios, ")"
@@ -315,6 +566,38 @@ contains
     call status%set(m)
   end subroutine read_error
 
+  !> Name the variable whose integer value does not fit (status set when one
+  !> is found): the first whole-number token beyond the default integer range.
+  subroutine integer_overflow(self, name, k, where, status)
+    type(deck_t), intent(in) :: self
+    character(len=*), intent(in) :: name, where
+    integer, intent(in) :: k
+    type(error_status_t), intent(inout) :: status
+    type(value_token_t), allocatable :: vals(:)
+    integer :: g, n, v, ios, gk
+    real(rp) :: x
+    allocate(vals(0))
+    n = 0
+    gk = 0
+    do g = 1, self%n_groups
+      if (self%group_name(g) /= name) cycle
+      n = n + 1
+      if (n == k) gk = g
+    end do
+    if (gk == 0) return
+    call group_values(self, gk, vals)
+    do v = 1, size(vals)
+      if (verify(vals(v)%text, '+-0123456789') /= 0) cycle
+      read(vals(v)%text, *, iostat=ios) x
+      if (ios /= 0) cycle
+      if (abs(x) > real(huge(1), rp)) then
+        call status%set(where//"), variable "//vals(v)%var//": "//vals(v)%text// &
+                        " is out of the integer range (at most 2147483647 in magnitude)")
+        return
+      end if
+    end do
+  end subroutine integer_overflow
+
   !> The last "name =" in s.
   function last_name(s) result(v)
     character(len=*), intent(in) :: s
@@ -333,7 +616,7 @@ contains
     end if
     b = e
     do while (b > 1)
-      if (index('abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_', s(b-1:b-1)) == 0) exit
+      if (index(name_chars, s(b-1:b-1)) == 0) exit
       b = b - 1
     end do
     if (e >= b .and. b >= 1) v = s(b:e)

@@ -1,6 +1,8 @@
 !> geoblock: coupled poromechanics and fault mechanics on distributed meshes.
 !>
 !> Usage: mpirun -np N geoblock DECK.nml
+!>        geoblock --check DECK.nml     read and check the deck, echo it, no run
+!>        geoblock --help | --version
 !> The deck is a file of namelist groups (see README.md and input/). The
 !> physics named in &run is made by simulation_factory and run by the one
 !> time loop (time_loop.f90).
@@ -10,14 +12,21 @@ program geoblock
   use error_status, only: error_status_t
   use logger, only: logger_t
   use status_sync, only: agree
-  use os_services, only: make_directory
+  use os_services, only: make_directory, end_process
   use strings, only: itoa
   use deck, only: deck_t
   use run_config, only: run_config_t
+  use mesh_config, only: mesh_config_t
   use simulation, only: simulation_t
   use simulation_factory, only: make_simulation, physics_names
-  use time_loop, only: run_simulation
+  use time_loop, only: run_simulation, read_physics_groups
+  use build_info, only: geoblock_version, git_commit, built_against
   implicit none
+
+  !> the deck groups (the repeatable ones may appear more than once)
+  character(len=16), parameter :: groups(14) = [character(len=16) :: 'run', 'mesh', 'material', 'boundary', &
+    'time', 'solver', 'amg', 'output', 'biot', 'source', 'afsai', 'block_fsai', 'fault', 'contact']
+  character(len=16), parameter :: repeatable(4) = [character(len=16) :: 'material', 'boundary', 'source', 'fault']
 
   type(parallel_comm_t) :: comm
   type(logger_t) :: log
@@ -26,19 +35,16 @@ program geoblock
   type(error_status_t) :: status
   class(simulation_t), allocatable :: sim
   character(len=path_len) :: path
-  integer :: ios
+  character(len=16) :: mode
 
   call comm%init_world()
   call log%init(comm)
-  path = ''
-  if (command_argument_count() >= 1) call get_command_argument(1, path)
-  if (len_trim(path) == 0) call log%fatal(comm, 'usage: geoblock DECK.nml   (see README.md for the deck groups)')
+  call command_line(comm, log, mode, path)
+  if (mode == 'help') call say_and_end(usage_text())
+  if (mode == 'version') call say_and_end(version_text())
 
   call d%load(comm, trim(path), status)
-  if (status%ok()) call d%check_groups( &
-    [character(len=16) :: 'run', 'mesh', 'material', 'boundary', 'time', 'solver', 'amg', 'output', 'biot', 'source', &
-     'afsai', 'block_fsai', 'fault', 'contact'], &
-    [character(len=16) :: 'material', 'boundary', 'source', 'fault'], status)
+  if (status%ok()) call d%check_groups(groups, repeatable, status)
   if (status%ok()) call run%read(d, log, status)
   if (status%ok()) then
     call make_simulation(run%physics, sim, status)
@@ -48,23 +54,109 @@ program geoblock
     end if
   end if
   if (.not. status%ok()) call log%fatal(comm, status%msg)
+  if (mode == 'check') call check_deck()
   log%verbosity = run%verbosity
-
-  ! output directory and log file (made by rank 0)
-  if (comm%is_root()) then
-    call make_directory(trim(run%out_dir), status)
-    if (status%ok()) then
-      call log%open_file(trim(run%out_dir)//'/'//trim(run%prefix)//'.log', ios)
-      if (ios /= 0) call status%set("cannot write the log file '"//trim(run%out_dir)//'/'//trim(run%prefix)// &
-                                    ".log'")
-    end if
-  end if
-  call agree(comm, status)
-  if (.not. status%ok()) call log%fatal(comm, 'output directory (&output dir): '//trim(status%msg))
-
-  call log%info('geoblock: '//trim(run%title))
+  call open_log()
+  call log%info('geoblock '//geoblock_version//' ('//git_commit//'): '//trim(run%title))
   call log%info('deck: '//trim(path)//', ranks: '//itoa(comm%size))
   call run_simulation(comm, log, d, run, sim)
   call log%close()
   call comm%finalize()
+
+contains
+
+  !> The mode ('run', 'check', 'help', 'version') and the deck path from the
+  !> command line; a wrong command line stops with the usage.
+  subroutine command_line(comm, log, mode, path)
+    type(parallel_comm_t), intent(inout) :: comm
+    type(logger_t), intent(inout) :: log
+    character(len=*), intent(out) :: mode, path
+    integer :: k, n, length
+    character(len=path_len) :: arg
+    character(len=:), allocatable :: problem
+    mode = 'run'
+    path = ''
+    problem = ''
+    n = command_argument_count()
+    do k = 1, n
+      call get_command_argument(k, arg, length)
+      if (length > len(arg)) then
+        problem = 'argument '//itoa(k)//' is longer than '//itoa(len(arg))//' characters'
+      else if (arg == '--help' .or. arg == '-h') then
+        mode = 'help'
+      else if (arg == '--version') then
+        mode = 'version'
+      else if (arg == '--check') then
+        mode = 'check'
+      else if (arg(1:1) == '-') then
+        problem = "unknown option '"//trim(arg)//"'"
+      else if (len_trim(path) > 0) then
+        problem = "more than one deck given ('"//trim(path)//"' and '"//trim(arg)//"')"
+      else
+        path = arg
+      end if
+      if (len(problem) > 0) exit
+    end do
+    if (mode == 'help' .or. mode == 'version') return
+    if (len(problem) == 0 .and. len_trim(path) == 0) problem = 'no deck given'
+    if (len(problem) > 0) call log%fatal(comm, problem//'; usage: geoblock [--check] DECK.nml | --help | --version')
+  end subroutine command_line
+
+  !> Print text on rank 0 and end the run with status 0.
+  subroutine say_and_end(text)
+    character(len=*), intent(in) :: text
+    if (comm%is_root()) write(*, '(a)') text
+    call comm%finalize()
+    call end_process(0)
+  end subroutine say_and_end
+
+  function usage_text() result(s)
+    character(len=:), allocatable :: s
+    character(len=*), parameter :: nl = new_line('a')
+    integer :: k
+    s = 'usage: mpirun -np N geoblock DECK.nml     run the deck'//nl// &
+        '       geoblock --check DECK.nml          read and check the deck, echo every value, run nothing'//nl// &
+        '       geoblock --help | --version'//nl//nl// &
+        'A deck is a file of Fortran namelist groups (&name ... /). Groups:'//nl
+    do k = 1, size(groups)
+      s = s//'  &'//trim(groups(k))
+      if (any(repeatable == groups(k))) s = s//' (may repeat)'
+      s = s//nl
+    end do
+    s = s//'physics (&run physics): '//physics_names//nl// &
+        'Every variable, its unit and default: README.md, section Decks; examples in input/.'//nl// &
+        'Exit status: 0 done, 2 bad input or a run that cannot go on (one "geoblock: error:" line).'
+  end function usage_text
+
+  function version_text() result(s)
+    character(len=:), allocatable :: s
+    s = 'geoblock '//geoblock_version//' (commit '//git_commit//')'//new_line('a')// &
+        'built against: '//built_against
+  end function version_text
+
+  !> --check: read every group the physics uses, echo them, and stop.
+  subroutine check_deck()
+    type(mesh_config_t) :: mcfg
+    log%verbosity = 2
+    call log%info('geoblock --check: deck '//trim(path)//', physics '//trim(run%physics))
+    call read_physics_groups(comm, log, d, run, sim, mcfg, status)
+    call agree(comm, status)
+    if (.not. status%ok()) call log%fatal(comm, status%msg)
+    call say_and_end("deck '"//trim(path)//"' is valid (physics "//trim(run%physics)//'); nothing was run')
+  end subroutine check_deck
+
+  !> The output directory and the log file (made by rank 0). Collective.
+  subroutine open_log()
+    integer :: ios
+    if (comm%is_root()) then
+      call make_directory(trim(run%out_dir), status)
+      if (status%ok()) then
+        call log%open_file(trim(run%out_dir)//'/'//trim(run%prefix)//'.log', ios)
+        if (ios /= 0) call status%set("cannot write the log file '"//trim(run%out_dir)//'/'//trim(run%prefix)// &
+                                      ".log'")
+      end if
+    end if
+    call agree(comm, status)
+    if (.not. status%ok()) call log%fatal(comm, 'output directory (&output dir): '//trim(status%msg))
+  end subroutine open_log
 end program geoblock

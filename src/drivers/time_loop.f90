@@ -25,7 +25,7 @@ module time_loop
   implicit none
   private
 
-  public :: run_simulation
+  public :: run_simulation, read_physics_groups
 
   !> What the loop carries from step to step.
   type :: run_state_t
@@ -89,10 +89,7 @@ contains
     type(mesh_config_t) :: mcfg
     type(error_status_t) :: status
     character(len=path_len) :: base
-    call mcfg%read(d, log, status)
-    sim%comm = comm
-    if (status%ok()) call sim%read_deck(d, mcfg, log, status)
-    if (status%ok() .and. sim%transient) call run%check_transient(d, sim%name(), status)
+    call read_physics_groups(comm, log, d, run, sim, mcfg, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
     call rs%schedule%init(run, sim%transient)
 
@@ -114,6 +111,23 @@ contains
                         run%export_matrix)), status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
   end subroutine prepare
+
+  !> The deck groups of the mesh and of the physics (and, for a physics that
+  !> steps in time, the time-step variables), read and checked; the values
+  !> are echoed to the log at verbosity 2. Collective.
+  subroutine read_physics_groups(comm, log, d, run, sim, mcfg, status)
+    type(parallel_comm_t), intent(inout) :: comm
+    type(logger_t), intent(inout) :: log
+    type(deck_t), intent(in) :: d
+    type(run_config_t), intent(in) :: run
+    class(simulation_t), intent(inout) :: sim
+    type(mesh_config_t), intent(inout) :: mcfg
+    type(error_status_t), intent(inout) :: status
+    call mcfg%read(d, log, status)
+    sim%comm = comm
+    if (status%ok()) call sim%read_deck(d, mcfg, log, status)
+    if (status%ok() .and. sim%transient) call run%check_transient(d, sim%name(), status)
+  end subroutine read_physics_groups
 
   !> Solve one nominal step (stats%t: its end, stats%dt: its size) from the
   !> accepted state rs%t: sub-steps of the current size until stats%t is
