@@ -54,6 +54,7 @@ contains
     is_hdf5_file = .false.
     call h5fis_hdf5_f(trim(path), is_hdf5_file, err)
     if (err /= 0) is_hdf5_file = .false.
+    call h5eset_auto_f(1, err)
   end function is_hdf5_file
 
   !> Initialise HDF5 (again: harmless) and silence its error printing.
