@@ -15,8 +15,8 @@ module os_services
   implicit none
   private
 
-  public :: make_directory, path_kind, path_missing, path_file, path_directory, end_process, &
-            catch_stop_signals, stop_requested, file_size
+  public :: make_directory, rename_path, path_kind, path_missing, path_file, path_directory, end_process, &
+            catch_stop_signals, stop_requested, signal_name, file_size
 
   !> what a path names (path_kind)
   integer, parameter :: path_missing = 0, path_file = 1, path_directory = 2
@@ -60,6 +60,11 @@ module os_services
       integer(c_int), value :: signum
       type(c_funptr), value :: handler
     end function c_signal
+    !> int rename(const char *old, const char *new)
+    integer(c_int) function c_rename(old, new) bind(C, name='rename')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: old(*), new(*)
+    end function c_rename
     !> DIR *opendir(const char *name); int closedir(DIR *dirp)
     type(c_ptr) function c_opendir(path) bind(C, name='opendir')
       import :: c_ptr, c_char
@@ -115,6 +120,17 @@ contains
       end if
     end subroutine make_one
   end subroutine make_directory
+
+  !> Give file old the name new, replacing a file of that name in one step
+  !> (rename(2): a reader sees the old or the new file, never a half-written
+  !> one). Trailing blanks of both names are ignored; status names both
+  !> paths and the system's reason on failure.
+  subroutine rename_path(old, new, status)
+    character(len=*), intent(in) :: old, new
+    type(error_status_t), intent(inout) :: status
+    if (c_rename(trim(old)//c_null_char, trim(new)//c_null_char) /= 0) &
+      call status%set("cannot rename '"//trim(old)//"' to '"//trim(new)//"': "//errno_text(errno()))
+  end subroutine rename_path
 
   !> What path (trailing blanks ignored) names: path_missing, path_file (a
   !> regular file or anything that can be opened as one), path_directory.
@@ -194,6 +210,22 @@ contains
     integer(c_int), value :: sig
     signal_seen = sig
   end subroutine on_signal
+
+  !> The name of a stop signal number ('SIGTERM', 'SIGUSR1', else 'signal N').
+  function signal_name(sig) result(s)
+    integer, intent(in) :: sig
+    character(len=:), allocatable :: s
+    character(len=16) :: buf
+    select case (sig)
+    case (sig_term)
+      s = 'SIGTERM'
+    case (sig_usr1)
+      s = 'SIGUSR1'
+    case default
+      write(buf, '(a,i0)') 'signal ', sig
+      s = trim(buf)
+    end select
+  end function signal_name
 
   !> A stop signal has arrived on this process (0: none, else its number).
   integer function stop_requested()

@@ -5,8 +5,9 @@
 !> record owns copies. Arrays are this rank's local arrays (owned entries
 !> first, ghosts after, as the physics keeps them), so a record is only valid
 !> on the same partition: a checkpoint written from it resumes on the same
-!> number of ranks. Real and integer arrays are kept apart so that a writer
-!> can store each with its own type.
+!> number of ranks. Real, integer and text arrays are kept apart so that a
+!> writer can store each with its own type (text: names, e.g. of the output
+!> fields a checkpoint lists; entries are read back through e(find(name))).
 module state_record
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -15,11 +16,12 @@ module state_record
 
   public :: state_record_t, state_entry_t
 
-  !> One named array: exactly one of r and i is allocated.
+  !> One named array: exactly one of r, i and s is allocated.
   type :: state_entry_t
     character(len=name_len) :: name = ''
     real(rp), allocatable :: r(:)
     integer, allocatable :: i(:)
+    character(len=name_len), allocatable :: s(:)
   end type state_entry_t
 
   type :: state_record_t
@@ -29,9 +31,9 @@ module state_record
     integer :: step = 0                      !< the last completed step
   contains
     procedure :: clear
-    generic :: put => put_real, put_int
+    generic :: put => put_real, put_int, put_text
     generic :: get => get_real, get_int
-    procedure, private :: put_real, put_int, get_real, get_int
+    procedure, private :: put_real, put_int, put_text, get_real, get_int
     procedure, private :: slot
     procedure :: find
   end type state_record_t
@@ -81,6 +83,7 @@ contains
     end if
     if (allocated(self%e(slot)%r)) deallocate(self%e(slot)%r)
     if (allocated(self%e(slot)%i)) deallocate(self%e(slot)%i)
+    if (allocated(self%e(slot)%s)) deallocate(self%e(slot)%s)
   end function slot
 
   !> Keep a copy of the real array v under name.
@@ -102,6 +105,17 @@ contains
     k = self%slot(name)
     self%e(k)%i = v
   end subroutine put_int
+
+  !> Keep a copy of the text array v (names of at most name_len characters).
+  subroutine put_text(self, name, v)
+    class(state_record_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    character(len=*), intent(in) :: v(:)
+    integer :: k
+    k = self%slot(name)
+    allocate(self%e(k)%s(size(v)))
+    self%e(k)%s = v
+  end subroutine put_text
 
   !> Copy the real array called name into v, which must have its size.
   !> status: no such entry, or another size or type.

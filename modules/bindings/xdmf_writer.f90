@@ -37,7 +37,7 @@
 !> closed here, since other parts of the program may use it too; parallel HDF5
 !> closes itself at MPI_Finalize.
 module xdmf_writer
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_char, c_int, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr
   use mpi_f08, only: MPI_INFO_NULL
   use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fopen_f, h5fclose_f, &
                   H5F_ACC_TRUNC_F, H5F_ACC_RDWR_F, h5pcreate_f, h5pclose_f, &
@@ -51,6 +51,8 @@ module xdmf_writer
   use kinds, only: rp, ip, gp, name_len, path_len, msg_len
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
+  use os_services, only: rename_path, path_kind, path_file
+  use state_record, only: state_record_t
   implicit none
   private
 
@@ -103,21 +105,15 @@ module xdmf_writer
     generic :: cell_field => cell_field_r2, cell_field_r1, cell_field_i1
     procedure :: end_step
     procedure :: xdmf_path
+    procedure :: n_outputs
+    procedure :: save_index
+    procedure :: resume
     procedure :: free
     procedure, private :: write_field
     procedure, private :: agree
     procedure, private :: open_h5
     procedure, private :: write_xdmf
   end type xdmf_writer_t
-
-  interface
-    !> C library rename(2): atomic replacement of the XDMF file.
-    function c_rename(old, new) bind(C, name='rename') result(rc)
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: old(*), new(*)
-      integer(c_int) :: rc
-    end function c_rename
-  end interface
 
 contains
 
@@ -402,7 +398,6 @@ contains
     type(error_status_t), intent(out) :: status
     character(len=path_len) :: file
     integer :: err
-    integer(ip) :: code
 
     if (.not. self%in_step) then
       call status%set('xdmf_writer: end_step without begin_step')
@@ -423,12 +418,7 @@ contains
 
     ! Only rank 0 writes the XDMF file; its verdict is everybody's.
     if (self%comm%is_root()) call self%write_xdmf(status)
-    code = int(status%code, ip)
-    call self%comm%bcast(code)
-    if (code /= 0) then
-      call self%comm%bcast(status%msg)
-      status%code = code
-    end if
+    call root_verdict(self, status)
   end subroutine end_step
 
   !> Path of the XDMF file of the series (to open in ParaView).
@@ -437,6 +427,132 @@ contains
     character(len=:), allocatable :: path
     path = trim(self%dir)//'/'//trim(self%prefix)//'.xdmf'
   end function xdmf_path
+
+  !> Number of output steps written (the next step file's number).
+  integer function n_outputs(self)
+    class(xdmf_writer_t), intent(in) :: self
+    n_outputs = self%n_steps
+  end function n_outputs
+
+  !> The series' index as a record (what resume needs to continue it):
+  !> times of the steps, grid names and first steps, and per field record
+  !> its name, step, grid, centre, components and integer flag.
+  subroutine save_index(self, st)
+    class(xdmf_writer_t), intent(in) :: self
+    type(state_record_t), intent(inout) :: st
+    integer :: f
+    call st%clear()
+    call st%put('times', self%times(1:self%n_steps))
+    call st%put('grid_name', self%grids(1:self%n_grids)%name)
+    call st%put('grid_first_step', self%grids(1:self%n_grids)%first_step)
+    call st%put('field_name', self%fields(1:self%n_fields)%name)
+    call st%put('field_step', self%fields(1:self%n_fields)%step)
+    call st%put('field_grid', self%fields(1:self%n_fields)%grid)
+    call st%put('field_center', self%fields(1:self%n_fields)%center)
+    call st%put('field_ncomp', self%fields(1:self%n_fields)%ncomp)
+    call st%put('field_int', [(merge(1, 0, self%fields(f)%is_int), f = 1, self%n_fields)])
+  end subroutine save_index
+
+  !> Continue the series of an earlier run from its index st (save_index):
+  !> after init and add_grid of the same grids, the earlier steps are taken
+  !> over (their step files, in dir, are not touched), the next step gets the
+  !> next number, and the XDMF file is rewritten at once with the earlier
+  !> steps. missing: how many of the earlier step files are not in dir (the
+  !> XDMF still lists them). Collective; status agrees.
+  subroutine resume(self, st, missing, status)
+    class(xdmf_writer_t), intent(inout) :: self
+    type(state_record_t), intent(in) :: st
+    integer, intent(out) :: missing
+    type(error_status_t), intent(inout) :: status
+    integer :: k, f, n, s
+    missing = 0
+    call check_index(self, st, status)
+    if (.not. status%ok()) return
+    associate (e => st%e)
+      n = size(e(st%find('times'))%r)
+      if (size(self%times) < n) then
+        deallocate(self%times)
+        allocate(self%times(max(16, n)))
+      end if
+      self%n_steps = n
+      self%times(1:n) = e(st%find('times'))%r
+      do k = 1, self%n_grids
+        self%grids(k)%first_step = e(st%find('grid_first_step'))%i(k)
+      end do
+      n = size(e(st%find('field_name'))%s)
+      deallocate(self%fields)
+      allocate(self%fields(max(16, n)))
+      do f = 1, n
+        self%fields(f) = xdmf_field_t(name=e(st%find('field_name'))%s(f), step=e(st%find('field_step'))%i(f), &
+          grid=e(st%find('field_grid'))%i(f), center=e(st%find('field_center'))%i(f), &
+          ncomp=e(st%find('field_ncomp'))%i(f), is_int=e(st%find('field_int'))%i(f) == 1)
+      end do
+      self%n_fields = n
+    end associate
+    if (self%comm%is_root()) then
+      do s = 0, self%n_steps - 1
+        if (path_kind(step_path(self, s)) /= path_file) missing = missing + 1
+      end do
+      call self%write_xdmf(status)
+    end if
+    call self%comm%bcast(missing)
+    call root_verdict(self, status)
+  end subroutine resume
+
+  !> Rank 0's status becomes every rank's (after a write only rank 0 made).
+  subroutine root_verdict(self, status)
+    type(xdmf_writer_t), intent(in) :: self
+    type(error_status_t), intent(inout) :: status
+    integer(ip) :: code
+    code = int(status%code, ip)
+    call self%comm%bcast(code)
+    if (code /= 0) then
+      call self%comm%bcast(status%msg)
+      status%code = code
+    end if
+  end subroutine root_verdict
+
+  !> The index has every entry resume reads, with consistent sizes, and the
+  !> grids of this series (same names, same order).
+  subroutine check_index(self, st, status)
+    type(xdmf_writer_t), intent(in) :: self
+    type(state_record_t), intent(in) :: st
+    type(error_status_t), intent(inout) :: status
+    character(len=16), parameter :: ints(6) = [character(len=16) :: 'grid_first_step', 'field_step', 'field_grid', &
+      'field_center', 'field_ncomp', 'field_int']
+    integer :: k, nf
+    if (self%in_step .or. .not. self%ready) then
+      call status%set('xdmf_writer: resume needs an initialised series outside a step')
+      return
+    end if
+    if (st%find('times') == 0 .or. st%find('grid_name') == 0 .or. st%find('field_name') == 0) then
+      call status%set('output index: times, grid_name or field_name missing')
+      return
+    end if
+    if (.not. allocated(st%e(st%find('times'))%r) .or. .not. allocated(st%e(st%find('grid_name'))%s) .or. &
+        .not. allocated(st%e(st%find('field_name'))%s)) then
+      call status%set('output index: times, grid_name or field_name of the wrong type')
+      return
+    end if
+    nf = size(st%e(st%find('field_name'))%s)
+    do k = 1, size(ints)
+      if (st%find(ints(k)) == 0) then
+        call status%set('output index: no entry '//trim(ints(k)))
+      else if (.not. allocated(st%e(st%find(ints(k)))%i)) then
+        call status%set('output index: entry '//trim(ints(k))//' is not an integer array')
+      else if (size(st%e(st%find(ints(k)))%i) /= merge(self%n_grids, nf, k == 1)) then
+        call status%set('output index: entry '//trim(ints(k))//' has the wrong size')
+      end if
+      if (.not. status%ok()) return
+    end do
+    associate (names => st%e(st%find('grid_name'))%s)
+      if (size(names) /= self%n_grids) then
+        call status%set('output index: the earlier run had another number of grids')
+      else if (any(names /= self%grids(1:self%n_grids)%name)) then
+        call status%set('output index: the earlier run had other grids')
+      end if
+    end associate
+  end subroutine check_index
 
   !> Close an open step file (collective) and forget everything; the files stay.
   subroutine free(self)
@@ -653,8 +769,8 @@ contains
       call status%set('xdmf_writer: cannot close '//trim(tmp))
       return
     end if
-    if (c_rename(trim(tmp)//c_null_char, trim(path)//c_null_char) /= 0) &
-      call status%set('xdmf_writer: cannot rename '//trim(tmp)//' to '//trim(path))
+    call rename_path(tmp, path, status)
+    if (.not. status%ok()) status%msg = 'xdmf_writer: '//trim(status%msg)
   end subroutine write_xdmf
 
   !> One Uniform grid of step s with the fields f0..f1 that belong to it.

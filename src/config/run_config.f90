@@ -6,6 +6,10 @@
 !>                        and &contact groups); the driver checks the name
 !>                        against simulation_factory                          ['elasticity']
 !>           verbosity    0 quiet, 1 progress lines, 2 also the deck echo     [1]
+!>           restart      checkpoint file to resume from (written by a run of
+!>                        the same deck and physics on the same number of
+!>                        ranks); the run goes on at the step after the
+!>                        checkpoint's and continues its outputs            [none]
 !> &time     n_steps      elasticity, contact: load steps; loads grow linearly and reach
 !>                        their full value at the last step (>= 1)           [1]
 !>           dt           biot: first time step [s] (> 0)                    [required for biot]
@@ -23,6 +27,10 @@
 !>           every        write every n-th step (the first and the last always) [1]
 !>           export_matrix  write the assembled matrix and right-hand side of
 !>                        the first step in MatrixMarket format                [.false.]
+!>           checkpoint_every  write a checkpoint every n-th step (>= 0; 0 never;
+!>                        SIGTERM / SIGUSR1 write one anyway)                  [0]
+!>           checkpoint_file  the checkpoint's path, overwritten at each
+!>                        checkpoint; a plain name goes into dir  [<dir>/<prefix>_checkpoint.h5]
 module run_config
   use kinds, only: rp, ip, path_len, msg_len, name_len
   use error_status, only: error_status_t
@@ -49,6 +57,9 @@ module run_config
     logical :: fields = .true.
     integer :: every = 1
     logical :: export_matrix = .false.
+    integer :: checkpoint_every = 0
+    character(len=path_len) :: checkpoint_file = ''   !< path of the checkpoint (resolved: never blank)
+    character(len=path_len) :: restart = ''           !< checkpoint to resume from ('' none)
   contains
     procedure :: read => read_run_config
     procedure :: check_transient
@@ -75,12 +86,13 @@ contains
     type(error_status_t), intent(inout) :: status
     character(len=128) :: title
     character(len=name_len) :: physics
+    character(len=path_len) :: restart
     integer :: verbosity, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(8)
-    namelist /run/ title, physics, verbosity
-    title = ''; physics = 'elasticity'; verbosity = 1
+    namelist /run/ title, physics, verbosity, restart
+    title = ''; physics = 'elasticity'; verbosity = 1; restart = ''
     if (d%count('run') > 0) then
       call d%block('run', 1, b)
       read(b, nml=run, iostat=ios, iomsg=msg)
@@ -95,6 +107,7 @@ contains
     self%title = title
     self%physics = physics
     self%verbosity = verbosity
+    self%restart = restart
     echo = ''
     write(echo, nml=run, iostat=ios)
     call d%echo(log, echo)
@@ -156,15 +169,15 @@ contains
     type(deck_t), intent(in) :: d
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
-    integer :: ios, p, every
-    character(len=path_len) :: dir
+    integer :: ios, p, every, checkpoint_every
+    character(len=path_len) :: dir, checkpoint_file
     character(len=name_len) :: prefix
     logical :: fields, export_matrix
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(8)
-    namelist /output/ dir, prefix, fields, export_matrix, every
-    dir = 'out'; fields = .true.; export_matrix = .false.; every = 1
+    character(len=echo_len) :: echo(12)
+    namelist /output/ dir, prefix, fields, export_matrix, every, checkpoint_every, checkpoint_file
+    dir = 'out'; fields = .true.; export_matrix = .false.; every = 1; checkpoint_every = 0; checkpoint_file = ''
     ! default prefix: the deck's file name without directory and extension
     prefix = d%path(index(d%path, '/', back=.true.) + 1:)
     p = index(prefix, '.', back=.true.)
@@ -178,6 +191,8 @@ contains
       end if
       if (len_trim(dir) == 0) call d%fail(status, 'output', 1, 'dir', 'must not be empty')
       if (every < 1) call d%fail(status, 'output', 1, 'every', 'must be at least 1 (got '//itoa(every)//')')
+      if (checkpoint_every < 0) call d%fail(status, 'output', 1, 'checkpoint_every', &
+        'must be 0 (never) or a positive number of steps (got '//itoa(checkpoint_every)//')')
       if (len_trim(prefix) == 0 .or. index(trim(prefix), '/') > 0 .or. index(trim(prefix), ' ') > 0) &
         call d%fail(status, 'output', 1, 'prefix', 'must be a plain file name (no blanks or /)')
     end if
@@ -187,6 +202,15 @@ contains
     self%fields = fields
     self%every = every
     self%export_matrix = export_matrix
+    self%checkpoint_every = checkpoint_every
+    ! a plain name lives in the output directory, a path is taken as it is
+    if (len_trim(checkpoint_file) == 0) then
+      self%checkpoint_file = trim(dir)//'/'//trim(prefix)//'_checkpoint.h5'
+    else if (index(checkpoint_file, '/') == 0) then
+      self%checkpoint_file = trim(dir)//'/'//trim(checkpoint_file)
+    else
+      self%checkpoint_file = checkpoint_file
+    end if
     echo = ''
     write(echo, nml=output, iostat=ios)
     call d%echo(log, echo)

@@ -44,17 +44,19 @@ module newton_loop
 contains
 
   !> The linear solver of sim's &solver; the residual history file at
-  !> history_path; export_base: export the first system there ('' none).
-  subroutine init(self, comm, sim, history_path, export_base, status)
+  !> history_path; export_base: export the first system there ('' none);
+  !> keep_through: a restarted run keeps the history rows up to that step.
+  subroutine init(self, comm, sim, history_path, export_base, status, keep_through)
     class(newton_loop_t), intent(inout) :: self
     type(parallel_comm_t), intent(in) :: comm
     class(simulation_t), intent(in) :: sim
     character(len=*), intent(in) :: history_path, export_base
     type(error_status_t), intent(inout) :: status
+    integer, intent(in), optional :: keep_through
     associate (s => sim%solver)
       call self%ls%init(comm, s%method, s%rtol, s%atol, s%max_iter, s%restart, status)
     end associate
-    call self%history%open(comm, history_path)
+    call self%history%open(comm, history_path, keep_through)
     self%export_base = export_base
   end subroutine init
 

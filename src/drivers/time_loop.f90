@@ -4,6 +4,12 @@
 !> and, when it fails, cut in half up to sim%max_cuts times; a progress
 !> line per step, the fields every &output every steps, a timing summary.
 !> Every error stops all ranks with one message (logger%fatal).
+!>
+!> Checkpoints (run_checkpoint.f90): after every &output checkpoint_every-th
+!> step, and after the step during which any rank got SIGTERM or SIGUSR1; a
+!> signal then ends the run cleanly (outputs closed, exit status 0) with a
+!> line that says how to resume. &run restart starts the loop at the step
+!> after a checkpoint's, from its state.
 module time_loop
   use kinds, only: rp, msg_len, path_len
   use parallel_comm, only: parallel_comm_t
@@ -12,6 +18,7 @@ module time_loop
   use logger, only: logger_t
   use timer_set, only: timer_set_t
   use strings, only: itoa, rtoa
+  use os_services, only: catch_stop_signals, stop_requested, signal_name
   use state_record, only: state_record_t
   use deck, only: deck_t
   use run_config, only: run_config_t
@@ -22,6 +29,7 @@ module time_loop
   use simulation, only: simulation_t, step_stats_t
   use step_schedule, only: step_schedule_t
   use newton_loop, only: newton_loop_t
+  use run_checkpoint, only: save_run, resume_run
   implicit none
   private
 
@@ -35,6 +43,7 @@ module time_loop
     type(timer_set_t) :: timers
     type(state_record_t) :: saved        !< the last accepted state (restored by a cut)
     real(rp) :: t = 0.0_rp               !< time (load factor) of the last accepted state
+    integer :: first = 0                 !< the first step this run solves
   end type run_state_t
 
 contains
@@ -50,12 +59,13 @@ contains
     type(dist_mesh_t), target :: mesh
     type(run_state_t) :: rs
     type(step_stats_t) :: stats
-    integer :: step
+    integer :: step, sig
     character(len=msg_len) :: line
 
+    call catch_stop_signals()
     call rs%timers%start('total')
     call prepare(comm, log, d, run, sim, mesh, rs)
-    step = rs%schedule%first_step()
+    step = rs%first
     do
       stats = step_stats_t(step=step, n_steps=rs%schedule%known_steps())
       if (.not. rs%schedule%next(step, rs%t, stats%t, stats%dt)) exit
@@ -64,6 +74,17 @@ contains
       call log%info(line)
       if (run%fields .and. (mod(step, run%every) == 0 .or. step <= 1 .or. rs%schedule%is_last(step, rs%t))) &
         call write_step(comm, log, sim, rs)
+      ! a stop signal on any rank ends the run here, unless it is over anyway
+      sig = comm%max(stop_requested())
+      if (rs%schedule%is_last(step, rs%t)) sig = 0
+      if (sig /= 0 .or. (run%checkpoint_every > 0 .and. step > 0 .and. mod(step, max(run%checkpoint_every, 1)) == 0)) &
+        call checkpoint(comm, log, run, sim, rs, step, stats%dt)
+      if (sig /= 0) then
+        call log%info('stopped by signal '//signal_name(sig)//' after step '//itoa(step)//' (t = '//trim(rtoa(rs%t))// &
+                      '): checkpoint '//trim(run%checkpoint_file)//"; resume with &run restart = '"// &
+                      trim(run%checkpoint_file)//"'")
+        exit
+      end if
       step = step + 1
     end do
     call sim%finish(log)
@@ -106,9 +127,19 @@ contains
       if (status%ok()) call sim%open_output(rs%out, status)
       if (.not. status%ok()) call log%fatal(comm, status%msg)
     end if
+    rs%first = rs%schedule%first_step()
+    if (len_trim(run%restart) > 0) then
+      call resume_run(comm, log, sim, rs%schedule, rs%out, run%fields, run%restart, rs%first, rs%t, status)
+      if (.not. status%ok()) call log%fatal(comm, status%msg)
+    end if
     base = trim(run%out_dir)//'/'//trim(run%prefix)
-    call rs%newton%init(comm, sim, trim(base)//'_residuals.csv', trim(merge(base, repeat(' ', path_len), &
-                        run%export_matrix)), status)
+    if (len_trim(run%restart) > 0) then
+      ! the matrix export belongs to the first step of the whole run
+      call rs%newton%init(comm, sim, trim(base)//'_residuals.csv', '', status, keep_through=rs%first - 1)
+    else
+      call rs%newton%init(comm, sim, trim(base)//'_residuals.csv', trim(merge(base, repeat(' ', path_len), &
+                          run%export_matrix)), status)
+    end if
     if (.not. status%ok()) call log%fatal(comm, status%msg)
   end subroutine prepare
 
@@ -128,6 +159,24 @@ contains
     if (status%ok()) call sim%read_deck(d, mcfg, log, status)
     if (status%ok() .and. sim%transient) call run%check_transient(d, sim%name(), status)
   end subroutine read_physics_groups
+
+  !> Write the checkpoint of the accepted step `step` (last sub-step dt).
+  !> Collective; stops the run when it cannot be written.
+  subroutine checkpoint(comm, log, run, sim, rs, step, dt)
+    type(parallel_comm_t), intent(inout) :: comm
+    type(logger_t), intent(inout) :: log
+    type(run_config_t), intent(in) :: run
+    class(simulation_t), intent(inout) :: sim
+    type(run_state_t), intent(inout) :: rs
+    integer, intent(in) :: step
+    real(rp), intent(in) :: dt
+    type(error_status_t) :: status
+    call rs%timers%start('checkpoint')
+    call save_run(comm, sim, rs%schedule, rs%out, run%fields, run%checkpoint_file, step, rs%t, dt, status)
+    call rs%timers%stop('checkpoint')
+    if (.not. status%ok()) call log%fatal(comm, 'step '//itoa(step)//': '//trim(status%msg))
+    call log%detail('checkpoint after step '//itoa(step)//': '//trim(run%checkpoint_file))
+  end subroutine checkpoint
 
   !> Solve one nominal step (stats%t: its end, stats%dt: its size) from the
   !> accepted state rs%t: sub-steps of the current size until stats%t is
