@@ -51,8 +51,9 @@ module xdmf_writer
   use kinds, only: rp, ip, gp, name_len, path_len, msg_len
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
-  use os_services, only: rename_path, path_kind, path_file
+  use os_services, only: rename_path, path_kind, path_file, make_directory
   use state_record, only: state_record_t
+  use status_sync, only: agree_all => agree
   implicit none
   private
 
@@ -141,9 +142,7 @@ contains
     character(len=*), intent(in), optional :: grid_name
     character(len=path_len) :: mesh_file
     character(len=name_len) :: gname
-    character(len=msg_len) :: cmdmsg
-    integer(ip) :: code
-    integer :: err, estat, cstat, id
+    integer :: err, id
     integer(hid_t) :: file_id
 
     call self%free()
@@ -169,21 +168,10 @@ contains
     call self%agree(status, 'HDF5 initialisation')
     if (.not. status%ok()) return
 
-    ! Rank 0 creates the directory; everybody learns whether it worked.
-    code = 0
-    if (self%comm%is_root()) then
-      estat = 0
-      cstat = 0
-      cmdmsg = ''
-      call execute_command_line("mkdir -p '"//trim(self%dir)//"'", wait=.true., &
-                                exitstat=estat, cmdstat=cstat, cmdmsg=cmdmsg)
-      if (cstat /= 0 .or. estat /= 0) code = 1
-    end if
-    call self%comm%bcast(code)
-    if (code /= 0) then
-      call status%set('xdmf_writer: cannot create the output directory '//trim(self%dir))
-      return
-    end if
+    ! Rank 0 creates the directory (no shell); everybody learns whether it worked.
+    if (self%comm%is_root()) call make_directory(trim(self%dir), status)
+    call agree_all(self%comm, status)
+    if (.not. status%ok()) return
 
     ! Check the grid before any file is made; add_grid then fills the empty
     ! mesh file (one code path for all grids).
