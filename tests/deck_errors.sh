@@ -9,11 +9,14 @@ cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 exe=${GEOBLOCK:-bin/geoblock}   # GEOBLOCK=bin/geoblock-debug runs the suite on the checked build
 pass=0; fail=0
+errf=$(mktemp)
+trap 'rm -f "$errf"' EXIT
 check() {  # name, ranks, deck (or arguments), expected text
   local name=$1 np=$2 deck=$3 expect=$4 out rc nerr
   # shellcheck disable=SC2086
-  out=$(timeout 120 mpirun --oversubscribe -np "$np" "$exe" $deck 2>&1 < /dev/null)
+  out=$(timeout 120 mpirun --oversubscribe -np "$np" "$exe" $deck 2> "$errf" < /dev/null)
   rc=$?
+  out="$out"$'\n'"$(cat "$errf")"
   if [ "$rc" -eq 124 ]; then
     echo "  FAIL  $name: hung (timeout)"; fail=$((fail + 1)); return
   fi
@@ -21,9 +24,9 @@ check() {  # name, ranks, deck (or arguments), expected text
     echo "  FAIL  $name: exit status $rc, not 2"; echo "$out" | head -5 | sed 's/^/        /'
     fail=$((fail + 1)); return
   fi
-  nerr=$(grep -c '^geoblock: error: ' <<< "$out")
+  nerr=$(grep -c '^geoblock: error: ' "$errf")
   if [ "$nerr" -ne 1 ]; then
-    echo "  FAIL  $name: $nerr 'geoblock: error:' lines, not one"; echo "$out" | head -5 | sed 's/^/        /'
+    echo "  FAIL  $name: $nerr 'geoblock: error:' lines on stderr, not one"; echo "$out" | head -5 | sed 's/^/        /'
     fail=$((fail + 1)); return
   fi
   if ! grep -qF -- "$expect" <<< "$out"; then

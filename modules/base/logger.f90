@@ -121,6 +121,7 @@ contains
     type(parallel_comm_t), intent(inout) :: comm
     character(len=*), intent(in) :: msg
     if (self%rank == 0) then
+      flush(output_unit)      ! the progress lines first, then the error on a line of its own
       write(error_unit, '(a)') 'geoblock: error: '//trim(msg)
       flush(error_unit)
       if (self%has_file) write(self%unit, '(a)') 'error: '//trim(msg)

@@ -46,15 +46,18 @@ module deck
     procedure :: read_error
     procedure :: fail
     procedure :: echo
+    procedure :: assigned
   end type deck_t
 
   interface is_set
     module procedure is_set_real, is_set_int
   end interface is_set
 
-  !> A value written in a group, and the variable it is assigned to.
+  !> A value written in a group and the variable it is assigned to, or
+  !> (is_name) the name of an assigned variable itself.
   type :: value_token_t
     character(len=:), allocatable :: text, var
+    logical :: is_name = .false.
   end type value_token_t
 
 contains
@@ -189,6 +192,7 @@ contains
     do g = 1, self%n_groups
       call group_values(self, g, vals)
       do v = 1, size(vals)
+        if (vals(v)%is_name) cycle
         associate(tok => vals(v)%text)
           if (non_finite_word(tok)) then
             call self%fail(status, self%group_name(g), occurrence(self, g), vals(v)%var, &
@@ -206,8 +210,9 @@ contains
     end do
   end subroutine check_numbers
 
-  !> The value tokens of group g (unquoted, outside comments; a repeat
-  !> count r* removed), each with the variable it is assigned to.
+  !> The tokens of group g (unquoted, outside comments): the names of the
+  !> assigned variables and the values (a repeat count r* removed), each
+  !> with the variable it is assigned to.
   subroutine group_values(self, g, vals)
     type(deck_t), intent(in) :: self
     integer, intent(in) :: g
@@ -251,15 +256,15 @@ contains
         end do
         tok = ln(j:k)
         j = k
+        if (n == size(vals)) vals = [vals, vals]
+        n = n + 1
         if (followed_by_equals(ln, k)) then
           var = tok
           if (index(var, '(') > 1) var = var(1:index(var, '(') - 1)
+          vals(n) = value_token_t(text='', var=var, is_name=.true.)
           cycle
         end if
         if (index(tok, '*') > 0) tok = tok(index(tok, '*') + 1:)
-        if (len(tok) == 0) cycle
-        if (n == size(vals)) vals = [vals, vals]
-        n = n + 1
         vals(n)%text = tok
         vals(n)%var = var
       end do
@@ -587,7 +592,7 @@ contains
     if (gk == 0) return
     call group_values(self, gk, vals)
     do v = 1, size(vals)
-      if (verify(vals(v)%text, '+-0123456789') /= 0) cycle
+      if (vals(v)%is_name .or. verify(vals(v)%text, '+-0123456789') /= 0) cycle
       read(vals(v)%text, *, iostat=ios) x
       if (ios /= 0) cycle
       if (abs(x) > real(huge(1), rp)) then
@@ -654,6 +659,26 @@ contains
       self%first_line(name, k), "), variable "//trim(var)//": "//trim(what)
     call status%set(m)
   end subroutine fail
+
+  !> Whether the k-th occurrence of group name assigns variable var (any
+  !> case, with or without an array section).
+  logical function assigned(self, name, k, var)
+    class(deck_t), intent(in) :: self
+    character(len=*), intent(in) :: name, var
+    integer, intent(in) :: k
+    type(value_token_t), allocatable :: vals(:)
+    integer :: g, n
+    assigned = .false.
+    n = 0
+    do g = 1, self%n_groups
+      if (self%group_name(g) /= name) cycle
+      n = n + 1
+      if (n /= k) cycle
+      call group_values(self, g, vals)
+      assigned = any([(vals(n)%is_name .and. lower(vals(n)%var) == lower(var), n = 1, size(vals))])
+      return
+    end do
+  end function assigned
 
   !> Write lines (e.g. a namelist written to an internal file) to the log.
   subroutine echo(self, log, lines)

@@ -157,6 +157,7 @@ contains
     call mcfg%read(d, log, status)
     sim%comm = comm
     if (status%ok()) call sim%read_deck(d, mcfg, log, status)
+    if (status%ok()) call sim%check_foreign(d, status)
     if (status%ok() .and. sim%transient) call run%check_transient(d, sim%name(), status)
   end subroutine read_physics_groups
 

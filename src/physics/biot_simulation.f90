@@ -26,7 +26,7 @@ module biot_simulation
   use field_output, only: field_output_t
   use poromechanics, only: poromechanics_t, iu, iq, ipr
   use biot_precon, only: biot_precon_t
-  use simulation, only: simulation_t, step_stats_t
+  use simulation, only: simulation_t, foreign_len, step_stats_t
   implicit none
   private
 
@@ -47,6 +47,7 @@ module biot_simulation
   contains
     procedure :: name
     procedure :: read_deck
+    procedure :: foreign_inputs
     procedure :: setup
     procedure :: begin_step
     procedure :: assemble
@@ -341,4 +342,10 @@ contains
     self%setup_done = .false.
     self%dt_used = -1.0_rp
   end subroutine free
+  !> Groups and variables of other physics, refused in this one's deck.
+  subroutine foreign_inputs(self, list)
+    class(biot_simulation_t), intent(in) :: self
+    character(len=foreign_len), allocatable, intent(out) :: list(:)
+    list = [character(len=foreign_len) :: 'fault', 'contact']
+  end subroutine foreign_inputs
 end module biot_simulation

@@ -24,7 +24,7 @@ module contact_simulation
   use fracture_output, only: fracture_output_t
   use contact, only: contact_t
   use contact_precon, only: contact_precon_t
-  use simulation, only: simulation_t, step_stats_t
+  use simulation, only: simulation_t, foreign_len, step_stats_t
   implicit none
   private
 
@@ -41,6 +41,7 @@ module contact_simulation
   contains
     procedure :: name
     procedure :: read_deck
+    procedure :: foreign_inputs
     procedure :: setup
     procedure :: open_output
     procedure :: begin_step
@@ -286,4 +287,12 @@ contains
     call self%phys%free()
     if (allocated(self%dx)) deallocate(self%dx, self%dsc)
   end subroutine free
+  !> Groups and variables of other physics, refused in this one's deck.
+  subroutine foreign_inputs(self, list)
+    class(contact_simulation_t), intent(in) :: self
+    character(len=foreign_len), allocatable, intent(out) :: list(:)
+    list = [character(len=foreign_len) :: 'biot', 'source', 'block_fsai', &
+            'material%biot', 'material%biot_modulus', &
+            'material%permeability', 'material%permeability_tensor', 'material%viscosity']
+  end subroutine foreign_inputs
 end module contact_simulation

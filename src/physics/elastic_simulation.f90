@@ -21,7 +21,7 @@ module elastic_simulation
   use dist_mesh, only: dist_mesh_t
   use field_output, only: field_output_t
   use elasticity, only: elasticity_t
-  use simulation, only: simulation_t, step_stats_t
+  use simulation, only: simulation_t, foreign_len, step_stats_t
   implicit none
   private
 
@@ -38,6 +38,7 @@ module elastic_simulation
   contains
     procedure :: name
     procedure :: read_deck
+    procedure :: foreign_inputs
     procedure :: setup
     procedure :: begin_step
     procedure :: assemble
@@ -214,4 +215,12 @@ contains
     self%pc_ready = .false.
     self%solved = .false.
   end subroutine free
+  !> Groups and variables of other physics, refused in this one's deck.
+  subroutine foreign_inputs(self, list)
+    class(elastic_simulation_t), intent(in) :: self
+    character(len=foreign_len), allocatable, intent(out) :: list(:)
+    list = [character(len=foreign_len) :: 'biot', 'source', 'fault', 'contact', 'block_fsai', &
+            'material%biot', 'material%biot_modulus', &
+            'material%permeability', 'material%permeability_tensor', 'material%viscosity']
+  end subroutine foreign_inputs
 end module elastic_simulation

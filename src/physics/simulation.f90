@@ -51,7 +51,10 @@ module simulation
   implicit none
   private
 
-  public :: simulation_t, step_stats_t
+  public :: simulation_t, step_stats_t, foreign_len
+
+  !> length of a foreign_inputs entry ('group%variable')
+  integer, parameter :: foreign_len = 40
 
   !> What the driver measured over one step (all its Newton iterations and,
   !> when it was cut, all its sub-steps), for the physics' progress line.
@@ -95,6 +98,8 @@ module simulation
     procedure(report_step_iface), deferred :: report_step
     procedure(free_iface), deferred :: free
     procedure :: read_common
+    procedure :: foreign_inputs
+    procedure :: check_foreign
     procedure :: open_output
     procedure :: accept_step
     procedure :: finish
@@ -272,4 +277,62 @@ contains
     class(simulation_t), intent(inout) :: self
     type(logger_t), intent(inout) :: log
   end subroutine finish
+  !> Deck groups ('group') and variables ('group%variable') this physics
+  !> does not use; a deck that sets one is refused (check_foreign). Default:
+  !> none. The &time variables of the other kind of stepping are added by
+  !> check_foreign itself.
+  subroutine foreign_inputs(self, list)
+    class(simulation_t), intent(in) :: self
+    character(len=foreign_len), allocatable, intent(out) :: list(:)
+    allocate(list(0))
+  end subroutine foreign_inputs
+
+  !> Refuse a deck that sets what this physics would silently ignore: its
+  !> foreign_inputs, and the &time variables of the other kind of stepping
+  !> (load steps n_steps, or time steps dt, t_end, dt_growth, dt_max,
+  !> times, undrained). The message names the group, the variable and the
+  !> physics.
+  subroutine check_foreign(self, d, status)
+    class(simulation_t), intent(in) :: self
+    type(deck_t), intent(in) :: d
+    type(error_status_t), intent(inout) :: status
+    character(len=foreign_len), allocatable :: list(:)
+    character(len=foreign_len), parameter :: time_vars(6) = [character(len=foreign_len) :: 'time%dt', &
+      'time%t_end', 'time%dt_growth', 'time%dt_max', 'time%times', 'time%undrained']
+    character(len=:), allocatable :: why
+    integer :: j, k, p
+    integer :: n0
+    character(len=foreign_len), allocatable :: own(:)
+    call self%foreign_inputs(own)
+    n0 = size(own)
+    if (self%transient) then
+      allocate(list(n0 + 1))
+      list(n0 + 1) = 'time%n_steps'
+      why = ' (it steps in time: dt, t_end)'
+    else
+      allocate(list(n0 + size(time_vars)))
+      list(n0 + 1:) = time_vars
+      why = ' (it steps in load: n_steps)'
+    end if
+    list(1:n0) = own
+    do j = 1, size(list)
+      p = index(list(j), '%')
+      if (p == 0) then
+        if (d%count(trim(list(j))) > 0) call status%set("deck '"//trim(d%path)//"': group &"//trim(list(j))// &
+          " is not used by physics = '"//trim(self%name())//"'; remove it")
+      else
+        do k = 1, d%count(list(j)(1:p-1))
+          if (.not. d%assigned(list(j)(1:p-1), k, trim(list(j)(p+1:)))) cycle
+          if (list(j)(1:p-1) == 'time') then
+            call d%fail(status, list(j)(1:p-1), k, trim(list(j)(p+1:)), "is not used by physics = '"// &
+                        trim(self%name())//"'"//why//'; remove it')
+          else
+            call d%fail(status, list(j)(1:p-1), k, trim(list(j)(p+1:)), "is not used by physics = '"// &
+                        trim(self%name())//"'; remove it")
+          end if
+        end do
+      end if
+      if (.not. status%ok()) return
+    end do
+  end subroutine check_foreign
 end module simulation
