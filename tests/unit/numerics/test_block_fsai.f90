@@ -20,7 +20,7 @@
 !>
 !> Arguments: [file [scale]]. file: write factors F ("key_row key_col
 !> value" lines sorted by keys, one block per factor after a "# name" line;
-!> tests/unit/fsai_ranks.sh compares them over rank counts). scale s > 0:
+!> tests/unit/numerics/fsai_ranks.sh compares them over rank counts). scale s > 0:
 !> also time decoupling_factor (defaults) on (10s+1) x (10s+1) x (s+1)
 !> nodes and 10s x 10s x s cells (s = 8: the Mandel benchmark's sizes,
 !> 177,147 rows and 51,200 columns); no assertion on the times.
@@ -34,6 +34,7 @@ program test_block_fsai
   use fsai_params, only: fsai_params_t
   use block_fsai, only: decoupling_factor
   use assertions, only: test_suite_t
+  use fixture_matrices, only: test_arguments, write_entries, wiggle, q1_entry, q1_mass
   implicit none
 
   !> A structured grid of nodes (3 unknowns each) and its cells, split in
@@ -57,7 +58,7 @@ program test_block_fsai
 
   call comm%init_world()
   call suite%init('block_fsai', comm)
-  call read_arguments(path, scale)
+  call test_arguments(path, scale)
   call test_inputs()
   call test_steps()
   call test_exact()
@@ -66,21 +67,6 @@ program test_block_fsai
   call suite%finish()
 
 contains
-
-  subroutine read_arguments(path, scale)
-    character(len=*), intent(out) :: path
-    integer, intent(out) :: scale
-    character(len=32) :: arg
-    integer :: ios
-    path = ''
-    scale = 0
-    if (command_argument_count() >= 1) call get_command_argument(1, path)
-    if (command_argument_count() >= 2) then
-      call get_command_argument(2, arg)
-      read(arg, *, iostat=ios) scale
-      if (ios /= 0) scale = 0
-    end if
-  end subroutine read_arguments
 
   ! ---- grids and matrices --------------------------------------------------
 
@@ -137,39 +123,6 @@ contains
       cnt(p) = cnt(p) + 1
     end do
   end subroutine split
-
-  !> Relative perturbation of a few ulps, symmetric in the two keys, that
-  !> depends on the rank count (as assembly round-off would).
-  real(rp) function wiggle(k1, k2)
-    integer(gp), intent(in) :: k1, k2
-    integer(gp) :: h
-    h = mod(min(k1, k2) * 37_gp + max(k1, k2) * 11_gp + int(comm%size, gp) * 7_gp, 5_gp) - 2_gp
-    wiggle = 1.0_rp + real(h, rp) * epsilon(1.0_rp)
-  end function wiggle
-
-  !> 1D Q1 stiffness entry (unit cells) between nodes i and j of n.
-  pure real(rp) function q1_entry(i, j, n)
-    integer, intent(in) :: i, j, n
-    if (i /= j) then
-      q1_entry = -1.0_rp
-    else if (i == 0 .or. i == n - 1) then
-      q1_entry = 1.0_rp
-    else
-      q1_entry = 2.0_rp
-    end if
-  end function q1_entry
-
-  !> 1D Q1 mass entry (unit cells) between nodes i and j of n.
-  pure real(rp) function q1_mass(i, j, n)
-    integer, intent(in) :: i, j, n
-    if (i /= j) then
-      q1_mass = 1.0_rp / 6.0_rp
-    else if (i == 0 .or. i == n - 1) then
-      q1_mass = 2.0_rp / 6.0_rp
-    else
-      q1_mass = 4.0_rp / 6.0_rp
-    end if
-  end function q1_mass
 
   !> Empty distributed matrix with this rank's rows of the row split ro and
   !> the column split co, room for cap entries.
@@ -245,7 +198,7 @@ contains
               do c2 = 1, 3
                 m = m + 1
                 cols(m) = 3 * (gr%node_gid(nb) - 1) + c2
-                vals(m) = s * m3(c, c2) * wiggle(rkey, gr%gid_key(cols(m)))
+                vals(m) = s * m3(c, c2) * wiggle(rkey, gr%gid_key(cols(m)), comm%size)
               end do
             end do
           end do
@@ -288,7 +241,7 @@ contains
               cell = 1 + cx + (gr%nx - 1) * (cy + (gr%ny - 1) * cz)
               m = m + 1
               cols(m) = gr%cell_gid(cell)
-              vals(m) = merge(0.25_rp, -0.25_rp, side(c) == 1) * wiggle(rkey, int(cell, gp) + 1000000_gp)
+              vals(m) = merge(0.25_rp, -0.25_rp, side(c) == 1) * wiggle(rkey, int(cell, gp) + 1000000_gp, comm%size)
             end do
           end do
         end do
@@ -429,84 +382,23 @@ contains
     p%tol = 0.0_rp
     call decoupling_factor(k, cm, p, f, st)
     all_ok = st%ok()
-    call write_block(gr, f, 'max_steps 4, tol 0', .true.)
+    call write_entries(comm, f, gr%cell_key, path, 'max_steps 4, tol 0', .true.)
     call make_grid(13, 12, 6, gr)
     call build_k(gr, k)
     call build_c(gr, cm)
     p = fsai_params_t()
     call decoupling_factor(k, cm, p, f, st)
     all_ok = all_ok .and. st%ok()
-    call write_block(gr, f, 'default settings', .false.)
+    call write_entries(comm, f, gr%cell_key, path, 'default settings', .false.)
     p%max_steps = 6
     p%step_size = 5
     p%tol = 1.0e-2_rp
     p%drop = 0.02_rp
     call decoupling_factor(k, cm, p, f, st)
     all_ok = all_ok .and. st%ok()
-    call write_block(gr, f, '6 steps of 5, tol 1e-2, drop 0.02', .false.)
+    call write_entries(comm, f, gr%cell_key, path, '6 steps of 5, tol 1e-2, drop 0.02', .false.)
     call suite%assert_true(all_ok, 'factors written to '//trim(path))
   end subroutine write_factors
-
-  !> Gather f's entries on rank 0 as (row key, column key, value), sorted by
-  !> keys, and write them after a "# title" line.
-  subroutine write_block(gr, f, title, first_block)
-    type(grid_t), intent(in) :: gr
-    type(global_csr_t), intent(in) :: f
-    character(len=*), intent(in) :: title
-    logical, intent(in) :: first_block
-    integer(gp), allocatable :: kr(:), kc(:), comb(:)
-    real(rp), allocatable :: v(:)
-    integer(ip), allocatable :: pos(:), counts(:)
-    integer(ip) :: cnt(1), i, k, m, p, u
-    integer(gp) :: big
-    m = f%nnz()
-    cnt(1) = m
-    allocate(counts(0:comm%size-1))
-    counts = 0
-    counts(0) = m
-    if (comm%rank > 0) then
-      call comm%send(cnt, 0, 21)
-    else
-      do p = 1, comm%size - 1
-        call comm%recv(cnt, p, 21)
-        counts(p) = cnt(1)
-      end do
-    end if
-    allocate(kr(sum(counts)), kc(sum(counts)), v(sum(counts)))
-    do i = 1, f%n_rows
-      do k = f%row_ptr(i), f%row_ptr(i+1) - 1
-        kr(k) = f%key(i)
-        kc(k) = gr%cell_key(f%gcol(k))
-        v(k) = f%val(k)
-      end do
-    end do
-    if (comm%rank > 0) then
-      call comm%send(kr, 0, 22)
-      call comm%send(kc, 0, 23)
-      call comm%send(v, 0, 24)
-      return
-    end if
-    do p = 1, comm%size - 1
-      call comm%recv(kr(m+1:m+counts(p)), p, 22)
-      call comm%recv(kc(m+1:m+counts(p)), p, 23)
-      call comm%recv(v(m+1:m+counts(p)), p, 24)
-      m = m + counts(p)
-    end do
-    big = maxval(kc) + 1
-    allocate(comb(m), pos(m))
-    comb = kr * big + kc
-    call sort_gids(comb, pos)
-    if (first_block) then
-      open(newunit=u, file=path, status='replace', action='write')
-    else
-      open(newunit=u, file=path, status='old', position='append', action='write')
-    end if
-    write(u, '(a)') '# '//title
-    do k = 1, m
-      write(u, '(i0,1x,i0,1x,es24.16e3)') kr(pos(k)), kc(pos(k)), v(pos(k))
-    end do
-    close(u)
-  end subroutine write_block
 
   ! ---- timings -------------------------------------------------------------
 

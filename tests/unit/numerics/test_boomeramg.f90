@@ -15,6 +15,7 @@ program test_boomeramg
   use amg_params, only: amg_params_t, amg_line_len
   use boomeramg_precon, only: boomeramg_precon_t
   use assertions, only: test_suite_t
+  use fixture_matrices, only: build_laplacian
   implicit none
 
   type(parallel_comm_t) :: comm
@@ -334,113 +335,4 @@ contains
     end if
   end subroutine report_hierarchy
 
-  !> nf 7-point Laplacians (component c scaled by scale(c)) on an n^3 grid of
-  !> nodes, Dirichlet boundary eliminated, interleaved unknowns; with
-  !> coupling, components 1 and 2 of each node are linked by -coupling.
-  !> Nodes are split into contiguous ranges by rank; the maps and the matrix
-  !> are built here with the ghost columns of the neighbouring ranks.
-  subroutine build_laplacian(comm, n, nf, scale, row_map, col_map, a, coupling)
-    type(parallel_comm_t), intent(in) :: comm
-    integer, intent(in) :: n, nf
-    real(rp), intent(in) :: scale(:)
-    real(rp), intent(in), optional :: coupling
-    type(index_map_t), intent(inout), target :: row_map, col_map
-    type(csr_matrix_t), intent(inout) :: a
-    integer(gp) :: n_nodes, first_node, node, first, last, g
-    integer(gp), allocatable :: gcol(:), ghosts(:), no_ghosts(:)
-    integer(ip), allocatable :: row_ptr(:), col(:), pos(:), lc(:)
-    real(rp), allocatable :: v(:)
-    integer(ip) :: n_owned, own_nodes, i, k, m, ng
-    integer :: c, ix, iy, iz, d
-    integer, parameter :: step(3, 6) = reshape([-1,0,0, 1,0,0, 0,-1,0, 0,1,0, 0,0,-1, 0,0,1], [3, 6])
-    integer :: nb(3)
-
-    n_nodes = int(n, gp)**3
-    own_nodes = int(n_nodes / comm%size, ip)
-    if (comm%rank < mod(n_nodes, int(comm%size, gp))) own_nodes = own_nodes + 1
-    first_node = comm%exscan_g(int(own_nodes, gp)) + 1
-    n_owned = nf * own_nodes
-    first = nf * (first_node - 1) + 1
-    last = first + n_owned - 1
-
-    ! pattern with global column ids: diagonal first, then up to 6 neighbours
-    allocate(row_ptr(n_owned + 1), gcol(8 * n_owned), v(8 * n_owned))
-    row_ptr(1) = 1
-    k = 0
-    do i = 1, n_owned
-      g = first + i - 1
-      node = (g - 1) / nf
-      c = int(mod(g - 1, int(nf, gp))) + 1
-      ix = int(mod(node, int(n, gp)))
-      iy = int(mod(node / n, int(n, gp)))
-      iz = int(node / (int(n, gp) * n))
-      k = k + 1
-      gcol(k) = g
-      v(k) = 6.0_rp * scale(c)
-      do d = 1, 6
-        nb = [ix, iy, iz] + step(:, d)
-        if (any(nb < 0) .or. any(nb >= n)) cycle
-        k = k + 1
-        gcol(k) = nf * (nb(1) + int(n, gp) * nb(2) + int(n, gp)**2 * nb(3)) + c
-        v(k) = -scale(c)
-      end do
-      if (present(coupling) .and. nf >= 2 .and. c <= 2) then
-        k = k + 1
-        gcol(k) = g + 3 - 2 * c
-        v(k) = -coupling
-      end if
-      row_ptr(i + 1) = k + 1
-    end do
-
-    ! ghost columns: the distinct global ids outside [first, last]
-    ghosts = pack(gcol(1:k), gcol(1:k) < first .or. gcol(1:k) > last)
-    allocate(pos(size(ghosts)))
-    call sort_gids(ghosts, pos)
-    ng = 0
-    do m = 1, size(ghosts)
-      if (ng > 0) then
-        if (ghosts(m) == ghosts(ng)) cycle
-      end if
-      ng = ng + 1
-      ghosts(ng) = ghosts(m)
-    end do
-    allocate(no_ghosts(0))
-    call row_map%init(comm, n_owned, no_ghosts)
-    call col_map%init(comm, n_owned, ghosts(1:ng))
-
-    ! local column ids, ascending within each row
-    allocate(col(k), lc(8))
-    do i = 1, n_owned
-      m = row_ptr(i + 1) - row_ptr(i)
-      do d = 1, m
-        lc(d) = col_map%local_id(gcol(row_ptr(i) + d - 1))
-      end do
-      call sort_row(lc(1:m), v(row_ptr(i):row_ptr(i + 1) - 1))
-      col(row_ptr(i):row_ptr(i + 1) - 1) = lc(1:m)
-    end do
-    call a%init(row_map, col_map, row_ptr, col)
-    a%val = v(1:k)
-  end subroutine build_laplacian
-
-  !> Insertion sort of a short row by local column id, values alongside.
-  subroutine sort_row(lc, v)
-    integer(ip), intent(inout) :: lc(:)
-    real(rp), intent(inout) :: v(:)
-    integer :: i, j
-    integer(ip) :: tc
-    real(rp) :: tv
-    do i = 2, size(lc)
-      tc = lc(i)
-      tv = v(i)
-      j = i - 1
-      do while (j >= 1)
-        if (lc(j) <= tc) exit
-        lc(j + 1) = lc(j)
-        v(j + 1) = v(j)
-        j = j - 1
-      end do
-      lc(j + 1) = tc
-      v(j + 1) = tv
-    end do
-  end subroutine sort_row
 end program test_boomeramg

@@ -24,7 +24,7 @@
 !> where candidates tie; diagonal start with dropping; default settings on
 !> a vector Laplacian with 81 entries per row) as "key_row key_col
 !> value" lines sorted by keys, one block per factor after a "# name" line
-!> (tests/unit/fsai_ranks.sh compares them over rank counts). scale s > 0:
+!> (tests/unit/numerics/fsai_ranks.sh compares them over rank counts). scale s > 0:
 !> also time the set-up on a 3-component 27-point "vector Laplacian" on
 !> (10s+1) x (10s+1) x (s+1) nodes (s = 8: 177,147 rows, the size of the
 !> Mandel benchmark's K); no assertion on the times.
@@ -44,6 +44,7 @@ program test_afsai
   use cg, only: cg_t
   use krylov, only: solve_info_t
   use assertions, only: test_suite_t
+  use fixture_matrices, only: test_arguments, write_entries, wiggle, q1_entry, q1_mass
   implicit none
 
   !> A structured grid of nodes with nc unknowns per node, split in x slabs.
@@ -62,7 +63,7 @@ program test_afsai
 
   call comm%init_world()
   call suite%init('afsai', comm)
-  call read_arguments(path, scale)
+  call test_arguments(path, scale)
   call test_settings()
   call test_not_spd()
   call test_exact()
@@ -72,21 +73,6 @@ program test_afsai
   call suite%finish()
 
 contains
-
-  subroutine read_arguments(path, scale)
-    character(len=*), intent(out) :: path
-    integer, intent(out) :: scale
-    character(len=32) :: arg
-    integer :: ios
-    path = ''
-    scale = 0
-    if (command_argument_count() >= 1) call get_command_argument(1, path)
-    if (command_argument_count() >= 2) then
-      call get_command_argument(2, arg)
-      read(arg, *, iostat=ios) scale
-      if (ios /= 0) scale = 0
-    end if
-  end subroutine read_arguments
 
   ! ---- grids and matrices --------------------------------------------------
 
@@ -127,15 +113,6 @@ contains
       end do
     end do
   end subroutine make_grid
-
-  !> Relative perturbation of a few ulps, symmetric in the two keys, that
-  !> depends on the rank count (as assembly round-off would).
-  real(rp) function wiggle(k1, k2)
-    integer(gp), intent(in) :: k1, k2
-    integer(gp) :: h
-    h = mod(min(k1, k2) * 37_gp + max(k1, k2) * 11_gp + int(comm%size, gp) * 7_gp, 5_gp) - 2_gp
-    wiggle = 1.0_rp + real(h, rp) * epsilon(1.0_rp)
-  end function wiggle
 
   !> Node coefficient of the Laplacians: 1, or jump in a checkerboard of
   !> 4^3 blocks.
@@ -208,7 +185,7 @@ contains
                 m = m + 1
                 cols(m) = gr%node_gid(nb)
                 ckey = nb
-                vals(m) = s * wiggle(rkey, ckey)
+                vals(m) = s * wiggle(rkey, ckey, comm%size)
               else
                 s = q1_entry(ix, jx, gr%nx) * q1_mass(iy, jy, gr%ny) * q1_mass(iz, jz, gr%nz) + &
                     q1_mass(ix, jx, gr%nx) * q1_entry(iy, jy, gr%ny) * q1_mass(iz, jz, gr%nz) + &
@@ -218,7 +195,7 @@ contains
                   m = m + 1
                   cols(m) = gr%nc * (gr%node_gid(nb) - 1) + c2
                   ckey = gr%gid_key(cols(m))
-                  vals(m) = s * m3(c, c2) * wiggle(rkey, ckey)
+                  vals(m) = s * m3(c, c2) * wiggle(rkey, ckey, comm%size)
                 end do
               end if
             end do
@@ -261,30 +238,6 @@ contains
       end if
     end do
   end function lap7_diagonal
-
-  !> 1D Q1 stiffness entry (unit cells) between nodes i and j of n.
-  pure real(rp) function q1_entry(i, j, n)
-    integer, intent(in) :: i, j, n
-    if (i /= j) then
-      q1_entry = -1.0_rp
-    else if (i == 0 .or. i == n - 1) then
-      q1_entry = 1.0_rp
-    else
-      q1_entry = 2.0_rp
-    end if
-  end function q1_entry
-
-  !> 1D Q1 mass entry (unit cells) between nodes i and j of n.
-  pure real(rp) function q1_mass(i, j, n)
-    integer, intent(in) :: i, j, n
-    if (i /= j) then
-      q1_mass = 1.0_rp / 6.0_rp
-    else if (i == 0 .or. i == n - 1) then
-      q1_mass = 2.0_rp / 6.0_rp
-    else
-      q1_mass = 4.0_rp / 6.0_rp
-    end if
-  end function q1_mass
 
   !> Dense copy (by keys, n x n, the same on every rank) of a square
   !> matrix whose column keys are those of gr.
@@ -523,90 +476,29 @@ contains
     call build_matrix(gr, 'lap7', 1000.0_rp, a)
     p%max_steps = 3
     call afsai_factor(a, p, g, st)
-    call write_block(gr, g, 'jumping coefficients, lower start, 3 steps', .true.)
+    call write_entries(comm, g, gr%gid_key, path, 'jumping coefficients, lower start, 3 steps', .true.)
     all_ok = st%ok()
     call make_grid(12, 11, 10, 1, gr)
     call build_matrix(gr, 'lap7', 1.0_rp, a)
     p = fsai_params_t()
     call afsai_factor(a, p, g, st)
-    call write_block(gr, g, 'constant coefficients, default settings', .false.)
+    call write_entries(comm, g, gr%gid_key, path, 'constant coefficients, default settings', .false.)
     all_ok = all_ok .and. st%ok()
     p%init = 'diagonal'
     p%max_steps = 8
     p%step_size = 3
     p%drop = 0.05_rp
     call afsai_factor(a, p, g, st)
-    call write_block(gr, g, 'constant coefficients, diagonal start, 8 steps of 3, drop 0.05', .false.)
+    call write_entries(comm, g, gr%gid_key, path, 'constant coefficients, diagonal start, 8 steps of 3, drop 0.05', .false.)
     all_ok = all_ok .and. st%ok()
     call make_grid(6, 5, 4, 3, gr)
     call build_matrix(gr, 'vec27', 0.0_rp, a)
     p = fsai_params_t()
     call afsai_factor(a, p, g, st)
-    call write_block(gr, g, 'vector Laplacian (81 per row), default settings', .false.)
+    call write_entries(comm, g, gr%gid_key, path, 'vector Laplacian (81 per row), default settings', .false.)
     all_ok = all_ok .and. st%ok()
     call suite%assert_true(all_ok, 'factors written to '//trim(path))
   end subroutine write_factors
-
-  !> Gather g's entries on rank 0 as (row key, column key, value), sorted by
-  !> keys, and write them after a "# title" line.
-  subroutine write_block(gr, g, title, first_block)
-    type(grid_t), intent(in) :: gr
-    type(global_csr_t), intent(in) :: g
-    character(len=*), intent(in) :: title
-    logical, intent(in) :: first_block
-    integer(gp), allocatable :: kr(:), kc(:), comb(:)
-    real(rp), allocatable :: v(:)
-    integer(ip), allocatable :: pos(:), counts(:)
-    integer(ip) :: cnt(1), i, k, m, p, u
-    integer(gp) :: big
-    m = g%nnz()
-    cnt(1) = m
-    allocate(counts(0:comm%size-1))
-    counts = 0
-    counts(0) = m
-    if (comm%rank > 0) then
-      call comm%send(cnt, 0, 11)
-    else
-      do p = 1, comm%size - 1
-        call comm%recv(cnt, p, 11)
-        counts(p) = cnt(1)
-      end do
-    end if
-    allocate(kr(sum(counts)), kc(sum(counts)), v(sum(counts)))
-    do i = 1, g%n_rows
-      do k = g%row_ptr(i), g%row_ptr(i+1) - 1
-        kr(k) = g%key(i)
-        kc(k) = gr%gid_key(g%gcol(k))
-        v(k) = g%val(k)
-      end do
-    end do
-    if (comm%rank > 0) then
-      call comm%send(kr, 0, 12)
-      call comm%send(kc, 0, 13)
-      call comm%send(v, 0, 14)
-      return
-    end if
-    do p = 1, comm%size - 1
-      call comm%recv(kr(m+1:m+counts(p)), p, 12)
-      call comm%recv(kc(m+1:m+counts(p)), p, 13)
-      call comm%recv(v(m+1:m+counts(p)), p, 14)
-      m = m + counts(p)
-    end do
-    big = maxval(kc) + 1
-    allocate(comb(m), pos(m))
-    comb = kr * big + kc
-    call sort_gids(comb, pos)
-    if (first_block) then
-      open(newunit=u, file=path, status='replace', action='write')
-    else
-      open(newunit=u, file=path, status='old', position='append', action='write')
-    end if
-    write(u, '(a)') '# '//title
-    do k = 1, m
-      write(u, '(i0,1x,i0,1x,es24.16e3)') kr(pos(k)), kc(pos(k)), v(pos(k))
-    end do
-    close(u)
-  end subroutine write_block
 
   ! ---- timings -----------------------------------------------------------
 

@@ -6,7 +6,7 @@
 # exactly the same pattern and values within 1e-10 of the largest entry of
 # each factor. Builds nothing: run after `make tests`.
 set -u
-cd "$(dirname "$0")/../.."
+cd "$(dirname "$0")/../../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 PY=${PYTHON:-/usr/bin/python3}
 out=build/test-out/fsai_ranks

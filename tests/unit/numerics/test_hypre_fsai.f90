@@ -26,6 +26,7 @@ program test_hypre_fsai
   use cg, only: cg_t
   use krylov, only: solve_info_t
   use assertions, only: test_suite_t
+  use fixture_matrices, only: build_laplacian
   implicit none
 
   integer, parameter :: n_test = 12
@@ -56,7 +57,7 @@ contains
     type(error_status_t) :: st
     integer(ip) :: i, k
 
-    call build_laplacian(comm, 4, row_map, col_map, a)
+    call build_laplacian(comm, 4, 1, [1.0_rp], row_map, col_map, a)
     call m%setup(a, -1, 5, 1.0e-3_rp, st)
     call suite%assert_true(.not. st%ok() .and. index(st%msg, 'max_steps = -1') > 0, &
                            'arguments: max_steps < 0 is refused by name: '//trim(st%msg))
@@ -74,7 +75,7 @@ contains
     ! diagonal 1, neighbours -1: indefinite, so the Cholesky factorization
     ! of some local system A[P,P] inside hypre's set-up fails
     call a%free()
-    call build_laplacian(comm, 6, row_map2, col_map2, a)
+    call build_laplacian(comm, 6, 1, [1.0_rp], row_map2, col_map2, a)
     do i = 1, a%n_rows
       do k = a%row_ptr(i), a%row_ptr(i + 1) - 1
         if (a%col(k) == i) a%val(k) = 1.0_rp
@@ -102,7 +103,7 @@ contains
     real(rp) :: lhs, rhs, scale, err
     integer(gp) :: n_glob
 
-    call build_laplacian(comm, n_test, row_map, col_map, a)
+    call build_laplacian(comm, n_test, 1, [1.0_rp], row_map, col_map, a)
     n_glob = int(n_test, gp)**3
     allocate(x(a%n_rows), y(a%n_rows), mx(a%n_rows), my(a%n_rows), mc(a%n_rows), mx2(a%n_rows), &
              zj(a%n_rows))
@@ -189,7 +190,7 @@ contains
     type(solve_info_t) :: info_j, info_f, info_1, info_5
     character(len=16) :: tag
 
-    call build_laplacian(comm, n_test, row_map, col_map, a)
+    call build_laplacian(comm, n_test, 1, [1.0_rp], row_map, col_map, a)
     allocate(b(a%n_rows))
     call make_rhs(a, b)
     write(tag, '(i0,a,i0)') comm%size, ' rank(s)'
@@ -243,7 +244,7 @@ contains
     character(len=32) :: label
     integer :: k
 
-    call build_laplacian(comm, n, row_map, col_map, a)
+    call build_laplacian(comm, n, 1, [1.0_rp], row_map, col_map, a)
     allocate(b(a%n_rows))
     call make_rhs(a, b)
     if (comm%rank == 0) write(*, '(a,i0,a,i0,a,i0,a)') '  PCG to 1e-8, ', n, '^3 Laplacian (', &
@@ -383,102 +384,4 @@ contains
     if (ios /= 0 .or. n < 2) error stop 'test_hypre_fsai: the argument must be a grid size >= 2'
   end subroutine read_size_argument
 
-  !> 7-point Laplacian on an n^3 grid of interior nodes (Dirichlet boundary
-  !> eliminated, diagonal 6, neighbours -1). Nodes are split into contiguous
-  !> ranges by rank; the maps and the matrix are built here with the ghost
-  !> columns of the neighbouring ranks.
-  subroutine build_laplacian(comm, n, row_map, col_map, a)
-    type(parallel_comm_t), intent(in) :: comm
-    integer, intent(in) :: n
-    type(index_map_t), intent(inout), target :: row_map, col_map
-    type(csr_matrix_t), intent(inout) :: a
-    integer(gp) :: n_nodes, first, last, g, node
-    integer(gp), allocatable :: gcol(:), ghosts(:), no_ghosts(:)
-    integer(ip), allocatable :: row_ptr(:), col(:), pos(:), lc(:)
-    real(rp), allocatable :: v(:)
-    integer(ip) :: n_owned, i, k, m, ng
-    integer :: ix, iy, iz, d
-    integer, parameter :: step(3, 6) = reshape([-1,0,0, 1,0,0, 0,-1,0, 0,1,0, 0,0,-1, 0,0,1], [3, 6])
-    integer :: nb(3)
-
-    n_nodes = int(n, gp)**3
-    n_owned = int(n_nodes / comm%size, ip)
-    if (comm%rank < mod(n_nodes, int(comm%size, gp))) n_owned = n_owned + 1
-    first = comm%exscan_g(int(n_owned, gp)) + 1
-    last = first + n_owned - 1
-
-    ! pattern with global column ids: diagonal first, then up to 6 neighbours
-    allocate(row_ptr(n_owned + 1), gcol(7 * n_owned), v(7 * n_owned))
-    row_ptr(1) = 1
-    k = 0
-    do i = 1, n_owned
-      g = first + i - 1
-      node = g - 1
-      ix = int(mod(node, int(n, gp)))
-      iy = int(mod(node / n, int(n, gp)))
-      iz = int(node / (int(n, gp) * n))
-      k = k + 1
-      gcol(k) = g
-      v(k) = 6.0_rp
-      do d = 1, 6
-        nb = [ix, iy, iz] + step(:, d)
-        if (any(nb < 0) .or. any(nb >= n)) cycle
-        k = k + 1
-        gcol(k) = nb(1) + int(n, gp) * nb(2) + int(n, gp)**2 * nb(3) + 1
-        v(k) = -1.0_rp
-      end do
-      row_ptr(i + 1) = k + 1
-    end do
-
-    ! ghost columns: the distinct global ids outside [first, last]
-    ghosts = pack(gcol(1:k), gcol(1:k) < first .or. gcol(1:k) > last)
-    allocate(pos(size(ghosts)))
-    call sort_gids(ghosts, pos)
-    ng = 0
-    do m = 1, size(ghosts)
-      if (ng > 0) then
-        if (ghosts(m) == ghosts(ng)) cycle
-      end if
-      ng = ng + 1
-      ghosts(ng) = ghosts(m)
-    end do
-    allocate(no_ghosts(0))
-    call row_map%init(comm, n_owned, no_ghosts)
-    call col_map%init(comm, n_owned, ghosts(1:ng))
-
-    ! local column ids, ascending within each row
-    allocate(col(k), lc(7))
-    do i = 1, n_owned
-      m = row_ptr(i + 1) - row_ptr(i)
-      do d = 1, m
-        lc(d) = col_map%local_id(gcol(row_ptr(i) + d - 1))
-      end do
-      call sort_row(lc(1:m), v(row_ptr(i):row_ptr(i + 1) - 1))
-      col(row_ptr(i):row_ptr(i + 1) - 1) = lc(1:m)
-    end do
-    call a%init(row_map, col_map, row_ptr, col)
-    a%val = v(1:k)
-  end subroutine build_laplacian
-
-  !> Insertion sort of a short row by local column id, values alongside.
-  subroutine sort_row(lc, v)
-    integer(ip), intent(inout) :: lc(:)
-    real(rp), intent(inout) :: v(:)
-    integer :: i, j
-    integer(ip) :: tc
-    real(rp) :: tv
-    do i = 2, size(lc)
-      tc = lc(i)
-      tv = v(i)
-      j = i - 1
-      do while (j >= 1)
-        if (lc(j) <= tc) exit
-        lc(j + 1) = lc(j)
-        v(j + 1) = v(j)
-        j = j - 1
-      end do
-      lc(j + 1) = tc
-      v(j + 1) = tv
-    end do
-  end subroutine sort_row
 end program test_hypre_fsai
