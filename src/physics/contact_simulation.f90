@@ -30,6 +30,12 @@ module contact_simulation
 
   public :: contact_simulation_t
 
+  !> Fewer interface elements than this are solved by MUMPS whatever the
+  !> deck's method: the block preconditioners' AMG on a Schur complement of a
+  !> few rows fails (1 element: 3 rows, hypre refuses the set-up); with 4
+  !> elements all three block preconditioners converge.
+  integer, parameter :: min_block_interfaces = 4
+
   type, extends(simulation_t) :: contact_simulation_t
     type(contact_t) :: phys
     type(contact_config_t) :: ccfg                  !< &contact
@@ -96,6 +102,16 @@ contains
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     self%mesh => mesh
+    call check_split(mesh, status)
+    if (.not. status%ok()) return
+    if (self%solver%method /= 'mumps' .and. mesh%iface_map%n_global < min_block_interfaces) then
+      ! a Schur complement of a few rows is no system for AMG (BoomerAMG
+      ! refuses a 3 x 3 one): the whole system is small, a direct solve is cheap
+      self%solver%method = 'mumps'
+      call log%info('contact: only '//itoa(int(mesh%iface_map%n_global))//' interface element(s), fewer than '// &
+        itoa(min_block_interfaces)//' for the block preconditioners: the direct solver MUMPS is used instead of '// &
+        'FGMRES')
+    end if
     call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
                         self%solver%method /= 'mumps' .and. self%ccfg%block /= 'classical', status)
     call agree(self%comm, status)
@@ -295,4 +311,41 @@ contains
             'material%biot', 'material%biot_modulus', &
             'material%permeability', 'material%permeability_tensor', 'material%viscosity']
   end subroutine foreign_inputs
+  !> Every interface element must have a split node: one whose four nodes
+  !> all lie on the fault's edge (a fault patch less than two elements
+  !> across) has a jump of zero by construction, so its tractions are
+  !> undetermined and every solver fails on it. Refused with the fault, the
+  !> element count and the first one's centre (the same on every rank).
+  !> Collective.
+  subroutine check_split(mesh, status)
+    type(dist_mesh_t), intent(in) :: mesh
+    type(error_status_t), intent(inout) :: status
+    integer(ip) :: e, n_bad, fidx
+    integer(gp) :: first_bad
+    real(rp) :: centre(3)
+    n_bad = 0
+    first_bad = huge(1_gp)
+    do e = 1, mesh%iface_map%n_owned
+      if (any(mesh%iface_nodes(:, 1, e) /= mesh%iface_nodes(:, 2, e))) cycle
+      n_bad = n_bad + 1
+      first_bad = min(first_bad, mesh%iface_orig(e))
+    end do
+    n_bad = mesh%comm%sum(n_bad)
+    if (n_bad == 0) return
+    first_bad = -mesh%comm%max(-first_bad)
+    centre = 0.0_rp
+    fidx = 0
+    do e = 1, mesh%iface_map%n_owned
+      if (mesh%iface_orig(e) /= first_bad) cycle
+      centre = sum(mesh%coords(:, mesh%iface_nodes(:, 1, e)), dim=2) / 4.0_rp
+      fidx = mesh%iface_fault(e)
+    end do
+    call mesh%comm%sum_all(centre)
+    fidx = mesh%comm%max(fidx)
+    call status%set("fault '"//trim(mesh%fault_names(fidx))//"': "//itoa(n_bad)// &
+      " interface element(s) with no split node (all four nodes on the fault's edge), the first centred at ("// &
+      trim(rtoa(centre(1)))//', '//trim(rtoa(centre(2)))//', '//trim(rtoa(centre(3)))// &
+      '): such an element can neither open nor slip and its tractions are undetermined; make the fault at '// &
+      'least two elements across (&fault lower, upper) or refine the mesh')
+  end subroutine check_split
 end module contact_simulation
