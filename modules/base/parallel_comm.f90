@@ -12,7 +12,7 @@ module parallel_comm
   implicit none
   private
 
-  public :: parallel_comm_t, wall_time
+  public :: parallel_comm_t, wall_time, self_f_handle
 
   type :: parallel_comm_t
     type(MPI_Comm) :: comm
@@ -104,6 +104,12 @@ contains
     class(parallel_comm_t), intent(in) :: self
     f_handle = self%comm%MPI_VAL
   end function f_handle
+
+  !> Fortran handle of MPI_COMM_SELF (a library instance private to one rank,
+  !> e.g. the host layout of mumps_solver).
+  integer function self_f_handle()
+    self_f_handle = MPI_COMM_SELF%MPI_VAL
+  end function self_f_handle
 
   !> C MPI_Comm handle (for hypre); the one place where the conversion is made.
   function c_handle(self) result(h)

@@ -18,12 +18,25 @@
 !> funnelling every application of the preconditioner through rank 0, which a
 !> centralized right-hand side and solution (ICNTL(20)=ICNTL(21)=0) would do.
 !>
+!> That distributed layout is not repeatable bit for bit: MUMPS assembles
+!> the contribution blocks that reach a front from other ranks in the order
+!> the messages arrive, which varies from run to run (measured: the
+!> determinant of the Sneddon contact matrix on 2 ranks changes in its
+!> 15th digit between identical runs; on one process it never does). So the
+!> default layout is the host layout (on_host): every rank sends its rows
+!> to rank 0, one MUMPS process on rank 0 (MPI_COMM_SELF) factorizes the
+!> centralized matrix (ICNTL(18)=0), and each solve gathers the right-hand
+!> side on rank 0 and scatters the solution back (ICNTL(20)=ICNTL(21)=0).
+!> Repeats are then bit-identical on any fixed number of ranks, at the price
+!> of rank 0 holding the factors; on_host = .false. gives the distributed
+!> layout above for systems whose factors do not fit one process.
+!>
 !> A mumps_solver_t owns a MUMPS instance: do not copy it (the copy would
 !> share MUMPS' internal pointers); call free() when done.
 module mumps_solver
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use kinds, only: rp, ip, gp, mumps_int, name_len, msg_len
-  use parallel_comm, only: parallel_comm_t, wall_time
+  use parallel_comm, only: parallel_comm_t, wall_time, self_f_handle
   use error_status, only: error_status_t
   use csr_matrix, only: csr_matrix_t
   use index_map, only: rank_of
@@ -56,6 +69,7 @@ module mumps_solver
     ! ---- settings, read by setup() ----
     integer :: verbosity = 0          !< 0: MUMPS silent; 1..4: MUMPS printing level ICNTL(4)
     integer :: mem_relax = -1         !< ICNTL(14), percent of workspace above the estimate; < 0: MUMPS default
+    logical :: on_host = .true.       !< factorize on rank 0 alone (bit-identical repeats); else distributed
     ! ---- statistics of the last successful setup() ----
     integer(gp) :: n_global = 0       !< order of the matrix
     integer(gp) :: nnz_input = 0      !< entries passed to MUMPS (one triangle when symmetric)
@@ -71,6 +85,7 @@ module mumps_solver
     type(dmumps_struc), private :: id
     logical, private :: active = .false.    !< a MUMPS instance exists (JOB=-1 done)
     logical, private :: factored = .false.  !< factors are ready for solve()
+    logical, private :: host = .false.      !< this factorization uses the host layout (on_host, several ranks)
     integer(ip), private :: n_owned = 0
     integer(gp), private :: first = 1
     integer(gp), allocatable, private :: offsets(:)  !< (0:size) first global row of each rank
@@ -138,38 +153,37 @@ contains
     self%first = A%row_map%first
     self%offsets = A%row_map%offsets
 
-    ! a new instance
-    self%id%COMM = self%comm%f_handle()
+    ! a new instance (in the host layout, on rank 0 alone)
+    self%host = self%on_host .and. self%comm%size > 1
+    self%id%COMM = merge(self_f_handle(), self%comm%f_handle(), self%host)
     self%id%SYM = merge(2, 0, sym)
     self%id%PAR = 1                      ! the host works too
-    self%id%JOB = job_init
-    call dmumps(self%id)
+    call run_job(self, job_init)
     if (failed(self, 'initialization', status)) return
     self%active = .true.
     ! user arrays: MUMPS never allocates them, so we own them from here on
     nullify(self%id%IRN_loc, self%id%JCN_loc, self%id%A_loc, self%id%RHS_loc, &
-            self%id%IRHS_loc, self%id%SOL_loc, self%id%ISOL_loc)
+            self%id%IRHS_loc, self%id%SOL_loc, self%id%ISOL_loc, self%id%IRN, self%id%JCN, self%id%A, &
+            self%id%RHS)
     call set_controls(self)
 
     ! analysis and factorization
     call fill_triplets(self, A, sym)
+    if (self%host) call gather_triplets(self)
     self%id%N = int(self%n_global, mumps_int)
     t0 = wall_time()
-    self%id%JOB = job_analyse
-    call dmumps(self%id)
+    call run_job(self, job_analyse)
     self%analysis_time = self%comm%max(wall_time() - t0)
     if (failed(self, 'analysis', status)) then
       call free_triplets(self)
       return
     end if
     t0 = wall_time()
-    self%id%JOB = job_factorize
-    call dmumps(self%id)
+    call run_job(self, job_factorize)
     if (is_workspace_error(self%id%INFOG(1))) then
       self%retried = .true.
       self%id%ICNTL(14) = max(retry_mem_relax, 2 * self%id%ICNTL(14))
-      self%id%JOB = job_factorize
-      call dmumps(self%id)
+      call run_job(self, job_factorize)
     end if
     self%factor_time = self%comm%max(wall_time() - t0)
     call free_triplets(self)
@@ -182,6 +196,15 @@ contains
     if (self%factor_entries < 0) self%factor_entries = -self%factor_entries * 1000000_gp
     self%factor_flops = self%id%RINFOG(3)
 
+    self%factored = .true.
+    self%plan_ready = .false.
+    if (self%host) then
+      ! centralized right-hand side and solution, on rank 0
+      allocate(self%id%RHS(merge(int(self%n_global, ip), 1_ip, self%comm%is_root())))
+      self%id%NRHS = 1
+      self%id%LRHS = int(self%n_global, mumps_int)
+      return
+    end if
     ! distributed right-hand side (owned rows) and distributed solution
     self%n_sol = self%id%INFO(23)
     allocate(self%id%IRHS_loc(max(1, self%n_owned)), self%id%RHS_loc(max(1, self%n_owned)))
@@ -194,9 +217,53 @@ contains
     self%id%LRHS_loc = max(1, self%n_owned)
     allocate(self%id%SOL_loc(max(1, self%n_sol)), self%id%ISOL_loc(max(1, self%n_sol)))
     self%id%LSOL_loc = self%n_sol
-    self%factored = .true.
-    self%plan_ready = .false.
   end subroutine setup
+
+  !> Run MUMPS phase job: on every rank, or in the host layout on rank 0
+  !> alone, whose INFOG and RINFOG then reach every rank, so that all ranks
+  !> take the same branch after the call.
+  subroutine run_job(self, job)
+    type(mumps_solver_t), intent(inout) :: self
+    integer, intent(in) :: job
+    integer(ip) :: info(size(self%id%INFOG))
+    real(rp) :: rinfo(size(self%id%RINFOG))
+    self%id%JOB = job
+    if (.not. self%host) then
+      call dmumps(self%id)
+      return
+    end if
+    if (self%comm%is_root()) call dmumps(self%id)
+    if (job == job_end) return
+    info = int(self%id%INFOG, ip)
+    rinfo = self%id%RINFOG
+    call self%comm%bcast(info)
+    call self%comm%bcast(rinfo)
+    self%id%INFOG = int(info, mumps_int)
+    self%id%RINFOG = rinfo
+  end subroutine run_job
+
+  !> Host layout: the owned triplets of every rank become the centralized
+  !> matrix (IRN, JCN, A) on rank 0, in rank order. Collective.
+  subroutine gather_triplets(self)
+    type(mumps_solver_t), intent(inout) :: self
+    integer(ip) :: scount(0:self%comm%size-1), rcount(0:self%comm%size-1)
+    integer(ip) :: n, m
+    integer(ip), allocatable :: ibuf(:)
+    n = int(self%id%NNZ_loc, ip)
+    scount = 0
+    scount(0) = n
+    call self%comm%alltoall_i(scount, rcount)
+    m = sum(rcount)
+    allocate(self%id%IRN(max(1, m)), self%id%JCN(max(1, m)), self%id%A(max(1, m)), ibuf(max(1, m)))
+    call self%comm%alltoallv(int(self%id%IRN_loc(1:n), ip), scount, ibuf, rcount)
+    self%id%IRN(1:m) = int(ibuf(1:m), mumps_int)
+    call self%comm%alltoallv(int(self%id%JCN_loc(1:n), ip), scount, ibuf, rcount)
+    self%id%JCN(1:m) = int(ibuf(1:m), mumps_int)
+    call self%comm%alltoallv(self%id%A_loc(1:n), scount, self%id%A, rcount)
+    self%id%NNZ = int(m, kind(self%id%NNZ))
+    self%id%NZ = m
+    deallocate(self%id%IRN_loc, self%id%JCN_loc, self%id%A_loc)
+  end subroutine gather_triplets
 
   !> Controls set once per instance (after JOB=-1, which resets them).
   subroutine set_controls(self)
@@ -212,9 +279,15 @@ contains
       self%id%ICNTL(4) = 0
     end if
     self%id%ICNTL(5) = 0                 ! assembled matrix
-    self%id%ICNTL(18) = 3                ! distributed: pattern at analysis, values at factorization
-    self%id%ICNTL(20) = 10               ! distributed dense right-hand side
-    self%id%ICNTL(21) = 1                ! distributed solution
+    if (self%host) then
+      self%id%ICNTL(18) = 0              ! centralized matrix on the host
+      self%id%ICNTL(20) = 0              ! centralized dense right-hand side
+      self%id%ICNTL(21) = 0              ! centralized solution (overwrites RHS)
+    else
+      self%id%ICNTL(18) = 3              ! distributed: pattern at analysis, values at factorization
+      self%id%ICNTL(20) = 10             ! distributed dense right-hand side
+      self%id%ICNTL(21) = 1              ! distributed solution
+    end if
     if (self%mem_relax >= 0) self%id%ICNTL(14) = self%mem_relax
   end subroutine set_controls
 
@@ -260,6 +333,9 @@ contains
     if (associated(self%id%IRN_loc)) deallocate(self%id%IRN_loc)
     if (associated(self%id%JCN_loc)) deallocate(self%id%JCN_loc)
     if (associated(self%id%A_loc)) deallocate(self%id%A_loc)
+    if (associated(self%id%IRN)) deallocate(self%id%IRN)
+    if (associated(self%id%JCN)) deallocate(self%id%JCN)
+    if (associated(self%id%A)) deallocate(self%id%A)
   end subroutine free_triplets
 
   !> Workspace errors of the factorization that a larger ICNTL(14) cures.
@@ -350,10 +426,12 @@ contains
       call st%set('mumps_solver%solve: no factorization (setup not called or failed)')
     else if (self%comm%any_true(size(b) < n .or. size(x) < n)) then
       call st%set('mumps_solver%solve: b or x is shorter than the owned rows on some rank')
+    else if (self%host) then
+      call solve_on_host(self, b, x, st)
+      if (st%ok()) return
     else
       self%id%RHS_loc(1:n) = b(1:n)
-      self%id%JOB = job_solve
-      call dmumps(self%id)
+      call run_job(self, job_solve)
       if (.not. failed(self, 'solve', st)) then
         if (.not. self%plan_ready) call build_plan(self, st)
       end if
@@ -372,6 +450,31 @@ contains
     call self%comm%alltoallv(sbuf, self%send_count, rbuf, self%recv_count)
     x(self%recv_local) = rbuf
   end subroutine solve
+
+  !> Host layout: gather b on rank 0 (rows in rank order are the global
+  !> order), solve there, send each rank its owned part of x. Collective.
+  subroutine solve_on_host(self, b, x, status)
+    type(mumps_solver_t), intent(inout) :: self
+    real(rp), intent(in) :: b(:)
+    real(rp), intent(out) :: x(:)
+    type(error_status_t), intent(inout) :: status
+    integer(ip) :: to_root(0:self%comm%size-1), per_rank(0:self%comm%size-1), none(0:self%comm%size-1)
+    integer(ip) :: n
+    n = self%n_owned
+    to_root = 0
+    to_root(0) = n
+    none = 0
+    per_rank = 0
+    if (self%comm%is_root()) per_rank = int(self%offsets(1:) - self%offsets(:self%comm%size-1), ip)
+    call self%comm%alltoallv(b(1:n), to_root, self%id%RHS, per_rank)
+    call run_job(self, job_solve)
+    if (failed(self, 'solve', status)) return
+    if (self%comm%is_root()) then
+      call self%comm%alltoallv(self%id%RHS, per_rank, x(1:n), to_root)
+    else
+      call self%comm%alltoallv(self%id%RHS(1:0), none, x(1:n), to_root)
+    end if
+  end subroutine solve_on_host
 
   !> Plan sending each solution entry MUMPS returned here (ISOL_loc) to the
   !> rank that owns its row. Collective; valid until the next setup.
@@ -444,8 +547,8 @@ contains
       if (associated(self%id%IRHS_loc)) deallocate(self%id%IRHS_loc)
       if (associated(self%id%SOL_loc)) deallocate(self%id%SOL_loc)
       if (associated(self%id%ISOL_loc)) deallocate(self%id%ISOL_loc)
-      self%id%JOB = job_end
-      call dmumps(self%id)
+      if (associated(self%id%RHS)) deallocate(self%id%RHS)
+      call run_job(self, job_end)
     end if
     self%active = .false.
     self%factored = .false.

@@ -31,6 +31,11 @@
 !>   max_iter  iteration cap, >= 1                                        [1000]
 !>   restart   FGMRES restart length, >= 1                                [100]
 !>   fail_on_no_convergence  stop the run when a solve does not converge  [.true.]
+!>   mumps_layout  where MUMPS factorizes (method = 'mumps'): 'host' (the
+!>             matrix gathered on rank 0 and
+!>             factorized there: repeats are bit-identical) or 'distributed'
+!>             (over all ranks: memory spread, but the last digits change
+!>             from run to run)                                         ['host']
 module solver_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -57,6 +62,7 @@ module solver_config
     logical :: elastic_reference = .false.
     character(len=name_len) :: schur = 'fixed_stress'
     character(len=name_len) :: schur_precon = 'boomeramg'
+    character(len=name_len) :: mumps_layout = 'host'
   contains
     procedure :: read => read_solver_config
   end type solver_config_t
@@ -70,6 +76,7 @@ contains
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: method, precon, block_mode, flux_precon, schur, decoupling, k_precon, schur_precon
+    character(len=name_len) :: mumps_layout
     real(rp) :: rtol, atol
     integer :: max_iter, restart, ios
     logical :: fail_on_no_convergence, elastic_reference
@@ -77,12 +84,13 @@ contains
     character(len=line_len), allocatable :: b(:)
     character(len=echo_len) :: echo(24)
     namelist /solver/ method, precon, rtol, atol, max_iter, restart, fail_on_no_convergence, block_mode, flux_precon, &
-                     elastic_reference, schur, decoupling, k_precon, schur_precon
+                     elastic_reference, schur, decoupling, k_precon, schur_precon, mumps_layout
 
     method = self%method; precon = self%precon; rtol = self%rtol; atol = self%atol
     max_iter = self%max_iter; restart = self%restart; fail_on_no_convergence = self%fail_on_no_convergence
     block_mode = ''; flux_precon = self%flux_precon; elastic_reference = self%elastic_reference
     schur = ''; decoupling = self%decoupling; k_precon = self%k_precon; schur_precon = self%schur_precon
+    mumps_layout = self%mumps_layout
     if (d%count('solver') > 0) then
       call d%block('solver', 1, b)
       read(b, nml=solver, iostat=ios, iomsg=msg)
@@ -124,6 +132,9 @@ contains
     if (schur_precon /= 'boomeramg' .and. schur_precon /= 'afsai') &
       call d%fail(status, 'solver', 1, 'schur_precon', "must be 'boomeramg' or 'afsai' (got '"// &
                   trim(schur_precon)//"')")
+    if (mumps_layout /= 'host' .and. mumps_layout /= 'distributed') &
+      call d%fail(status, 'solver', 1, 'mumps_layout', "must be 'host' or 'distributed' (got '"// &
+                  trim(mumps_layout)//"')")
     if (.not. (rtol > 0.0_rp .and. rtol < 1.0_rp)) &
       call d%fail(status, 'solver', 1, 'rtol', 'must lie in (0, 1) (got '//rtoa(rtol)//')')
     if (.not. (atol >= 0.0_rp)) call d%fail(status, 'solver', 1, 'atol', 'must be >= 0 (got '//rtoa(atol)//')')
@@ -144,6 +155,7 @@ contains
     self%decoupling = decoupling
     self%k_precon = k_precon
     self%schur_precon = schur_precon
+    self%mumps_layout = mumps_layout
     echo = ''
     write(echo, nml=solver, iostat=ios)
     call d%echo(log, echo)

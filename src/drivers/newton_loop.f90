@@ -55,6 +55,7 @@ contains
     integer, intent(in), optional :: keep_through
     associate (s => sim%solver)
       call self%ls%init(comm, s%method, s%rtol, s%atol, s%max_iter, s%restart, status)
+      self%ls%direct%on_host = s%mumps_layout == 'host'
     end associate
     call self%history%open(comm, history_path, keep_through)
     self%export_base = export_base
