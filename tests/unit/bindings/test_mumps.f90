@@ -36,79 +36,9 @@ program test_mumps
     x_ref(i) = 1.0_rp + sin(0.37_rp * real(row_map%first + i - 1, rp))
   end do
 
-  call suite%assert_true(solver%name() == 'mumps', 'name() is mumps')
-
-  ! ---- unsymmetric: LU ----
-  call solver%setup(a_uns, status)
-  call suite%assert_true(status%ok(), 'unsymmetric setup succeeds: '//trim(status%msg))
-  call suite%assert_true(solver%n_global == int(nx * ny, gp), 'order of the matrix')
-  call suite%assert_true(solver%nnz_input == a_uns%global_nnz(), 'all entries passed (unsymmetric)')
-  call a_uns%apply(x_ref, b)
-  call solver%solve(b, x, status)
-  call suite%assert_true(status%ok(), 'unsymmetric solve succeeds')
-  call suite%assert_true(rel_err(comm, x, x_ref) < tol, 'unsymmetric: ||x - x*|| / ||x*|| < 1e-10')
-  call suite%assert_true(solver%peak_mem_max_mb > 0, 'unsymmetric: peak memory (max) reported > 0'// &
-                         trim(stats(solver)))
-  call suite%assert_true(solver%peak_mem_total_mb >= solver%peak_mem_max_mb, &
-                         'unsymmetric: total peak memory >= max peak memory')
-  call suite%assert_true(solver%factor_entries >= a_uns%global_nnz(), &
-                         'unsymmetric: factors hold at least nnz(A) entries')
-  call suite%assert_true(solver%setup_time > 0.0_rp, 'unsymmetric: setup time recorded')
-  ! a second right-hand side reuses the redistribution plan; apply() = solve()
-  do i = 1, row_map%n_owned
-    x_ref(i) = cos(0.11_rp * real(row_map%first + i - 1, rp)) - 0.5_rp
-  end do
-  call a_uns%apply(x_ref, b)
-  call solver%apply(b, z)
-  call suite%assert_true(rel_err(comm, z, x_ref) < tol, 'unsymmetric: apply() on a second rhs')
-  ! the transposed solution must not pass: the test can fail
-  call a_spd%apply(x_ref, b)
-  call solver%apply(b, z)
-  call suite%assert_true(rel_err(comm, z, x_ref) > 1.0e-3_rp, 'unsymmetric factors do not solve the SPD matrix')
-
-  ! ---- symmetric positive definite: LDL^T on the lower triangle, same object ----
-  call solver%setup(a_spd, status, symmetric=.true.)
-  call suite%assert_true(status%ok(), 'symmetric setup succeeds: '//trim(status%msg))
-  call suite%assert_true(solver%nnz_input == (a_spd%global_nnz() + int(nx * ny, gp)) / 2, &
-                         'symmetric: only the lower triangle passed')
-  do i = 1, row_map%n_owned
-    x_ref(i) = real(mod(row_map%first + i - 1, 7_gp), rp) - 2.5_rp
-  end do
-  call a_spd%apply(x_ref, b)
-  call solver%solve(b, x, status)
-  call suite%assert_true(status%ok(), 'symmetric solve succeeds')
-  call suite%assert_true(rel_err(comm, x, x_ref) < tol, 'symmetric: ||x - x*|| / ||x*|| < 1e-10')
-  call suite%assert_true(solver%peak_mem_max_mb > 0, 'symmetric: peak memory (max) reported > 0'// &
-                         trim(stats(solver)))
-  call suite%assert_true(solver%factor_entries > 0, 'symmetric: factor entries reported')
-
-  ! ---- workspace retry: the grid's adjacency matrix (zero diagonal; nonsingular for
-  !      nx + 1 = 121 and ny + 1 = 91 coprime) needs pivoting beyond the analysis
-  !      estimate; without relaxation the factorization fails with -9 and the one
-  !      retry with a larger ICNTL(14) must cure it ----
-  call build_matrix(row_map, col_map, 0.0_rp, 0.0_rp, 0.0_rp, a_piv)
-  solver%mem_relax = 0
-  call solver%setup(a_piv, status)
-  solver%mem_relax = -1
-  call suite%assert_true(status%ok(), 'zero diagonal: setup succeeds: '//trim(status%msg))
-  call suite%assert_true(solver%retried, 'zero diagonal, no relaxation: the workspace retry was needed')
-  call a_piv%apply(x_ref, b)
-  call solver%solve(b, x, status)
-  call suite%assert_true(rel_err(comm, x, x_ref) < tol, 'zero diagonal: ||x - x*|| / ||x*|| < 1e-10')
-
-  ! ---- a singular matrix is reported through the status, not a stop ----
-  call build_matrix(row_map, col_map, 4.0_rp, 0.0_rp, 0.0_rp, a_sing)
-  call zero_row(a_sing, int(nx * ny, gp) / 2)
-  call status%clear()
-  call solver%setup(a_sing, status)
-  call suite%assert_true(.not. status%ok(), 'singular matrix: setup reports an error')
-  call suite%assert_true(status%code == -10 .or. status%code == -6, &
-                         'singular matrix: code is INFOG(1) = -10 or -6: '//trim(status%msg))
-  call suite%assert_true(index(status%msg, 'INFOG(1)') > 0, 'singular matrix: message names INFOG(1)')
-  call status%clear()
-  call solver%solve(b, x, status)
-  call suite%assert_true(.not. status%ok(), 'solve after a failed setup reports an error')
-
+  ! both layouts: the host (rank 0 factorizes alone) and the distributed one
+  call check_layout(.true., 'host: ')
+  call check_layout(.false., 'distributed: ')
   call solver%free()
   call a_uns%free()
   call a_spd%free()
@@ -117,6 +47,89 @@ program test_mumps
   call suite%finish()
 
 contains
+
+  !> Every check of this test with the given MUMPS layout; lay prefixes the
+  !> messages.
+  subroutine check_layout(on_host, lay)
+    logical, intent(in) :: on_host
+    character(len=*), intent(in) :: lay
+    call solver%free()
+    call status%clear()
+    solver%on_host = on_host
+    call suite%assert_true(solver%name() == 'mumps', lay//'name() is mumps')
+
+    ! ---- unsymmetric: LU ----
+    call solver%setup(a_uns, status)
+    call suite%assert_true(status%ok(), lay//'unsymmetric setup succeeds: '//trim(status%msg))
+    call suite%assert_true(solver%n_global == int(nx * ny, gp), lay//'order of the matrix')
+    call suite%assert_true(solver%nnz_input == a_uns%global_nnz(), lay//'all entries passed (unsymmetric)')
+    call a_uns%apply(x_ref, b)
+    call solver%solve(b, x, status)
+    call suite%assert_true(status%ok(), lay//'unsymmetric solve succeeds')
+    call suite%assert_true(rel_err(comm, x, x_ref) < tol, lay//'unsymmetric: ||x - x*|| / ||x*|| < 1e-10')
+    call suite%assert_true(solver%peak_mem_max_mb > 0, lay//'unsymmetric: peak memory (max) reported > 0'// &
+                             trim(stats(solver)))
+    call suite%assert_true(solver%peak_mem_total_mb >= solver%peak_mem_max_mb, &
+                             'unsymmetric: total peak memory >= max peak memory')
+    call suite%assert_true(solver%factor_entries >= a_uns%global_nnz(), &
+                             'unsymmetric: factors hold at least nnz(A) entries')
+    call suite%assert_true(solver%setup_time > 0.0_rp, lay//'unsymmetric: setup time recorded')
+    ! a second right-hand side reuses the redistribution plan; apply() = solve()
+    do i = 1, row_map%n_owned
+      x_ref(i) = cos(0.11_rp * real(row_map%first + i - 1, rp)) - 0.5_rp
+    end do
+    call a_uns%apply(x_ref, b)
+    call solver%apply(b, z)
+    call suite%assert_true(rel_err(comm, z, x_ref) < tol, lay//'unsymmetric: apply() on a second rhs')
+    ! the transposed solution must not pass: the test can fail
+    call a_spd%apply(x_ref, b)
+    call solver%apply(b, z)
+    call suite%assert_true(rel_err(comm, z, x_ref) > 1.0e-3_rp, lay//'unsymmetric factors do not solve the SPD matrix')
+
+    ! ---- symmetric positive definite: LDL^T on the lower triangle, same object ----
+    call solver%setup(a_spd, status, symmetric=.true.)
+    call suite%assert_true(status%ok(), lay//'symmetric setup succeeds: '//trim(status%msg))
+    call suite%assert_true(solver%nnz_input == (a_spd%global_nnz() + int(nx * ny, gp)) / 2, &
+                             lay//'symmetric: only the lower triangle passed')
+    do i = 1, row_map%n_owned
+      x_ref(i) = real(mod(row_map%first + i - 1, 7_gp), rp) - 2.5_rp
+    end do
+    call a_spd%apply(x_ref, b)
+    call solver%solve(b, x, status)
+    call suite%assert_true(status%ok(), lay//'symmetric solve succeeds')
+    call suite%assert_true(rel_err(comm, x, x_ref) < tol, lay//'symmetric: ||x - x*|| / ||x*|| < 1e-10')
+    call suite%assert_true(solver%peak_mem_max_mb > 0, lay//'symmetric: peak memory (max) reported > 0'// &
+                             trim(stats(solver)))
+    call suite%assert_true(solver%factor_entries > 0, lay//'symmetric: factor entries reported')
+
+    ! ---- workspace retry: the grid's adjacency matrix (zero diagonal; nonsingular for
+    !      nx + 1 = 121 and ny + 1 = 91 coprime) needs pivoting beyond the analysis
+    !      estimate; without relaxation the factorization fails with -9 and the one
+    !      retry with a larger ICNTL(14) must cure it ----
+    call build_matrix(row_map, col_map, 0.0_rp, 0.0_rp, 0.0_rp, a_piv)
+    solver%mem_relax = 0
+    call solver%setup(a_piv, status)
+    solver%mem_relax = -1
+    call suite%assert_true(status%ok(), lay//'zero diagonal: setup succeeds: '//trim(status%msg))
+    call suite%assert_true(solver%retried, lay//'zero diagonal, no relaxation: the workspace retry was needed')
+    call a_piv%apply(x_ref, b)
+    call solver%solve(b, x, status)
+    call suite%assert_true(rel_err(comm, x, x_ref) < tol, lay//'zero diagonal: ||x - x*|| / ||x*|| < 1e-10')
+
+    ! ---- a singular matrix is reported through the status, not a stop ----
+    call build_matrix(row_map, col_map, 4.0_rp, 0.0_rp, 0.0_rp, a_sing)
+    call zero_row(a_sing, int(nx * ny, gp) / 2)
+    call status%clear()
+    call solver%setup(a_sing, status)
+    call suite%assert_true(.not. status%ok(), lay//'singular matrix: setup reports an error')
+    call suite%assert_true(status%code == -10 .or. status%code == -6, &
+                             'singular matrix: code is INFOG(1) = -10 or -6: '//trim(status%msg))
+    call suite%assert_true(index(status%msg, 'INFOG(1)') > 0, lay//'singular matrix: message names INFOG(1)')
+    call status%clear()
+    call solver%solve(b, x, status)
+    call suite%assert_true(.not. status%ok(), lay//'solve after a failed setup reports an error')
+
+  end subroutine check_layout
 
   !> Contiguous block of rows per rank; ghost columns: the grid neighbours
   !> owned by other ranks.
