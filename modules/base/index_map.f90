@@ -6,6 +6,7 @@
 !> communication plan of the halo exchange in both directions:
 !>   import     : owner values -> ghost copies   (before a matrix-vector product)
 !>   export_add : ghost contributions -> owner, added (after assembly)
+!>   export_min : ghost values -> owner, which keeps the smallest (labels)
 module index_map
   use kinds, only: rp, ip, gp
   use parallel_comm, only: parallel_comm_t
@@ -37,6 +38,7 @@ module index_map
     procedure :: owner_of
     procedure :: import
     procedure :: export_add
+    procedure :: export_min
     procedure :: free
   end type index_map_t
 
@@ -238,6 +240,22 @@ contains
     end if
     x(self%n_owned+1:) = 0.0_rp
   end subroutine export_add
+
+  !> Owners take the minimum of their entry and every ghost copy of it;
+  !> ghosts keep their values.
+  subroutine export_min(self, x)
+    class(index_map_t), intent(in) :: self
+    real(rp), intent(inout) :: x(:)
+    real(rp), allocatable :: sbuf(:), rbuf(:)
+    integer :: i
+    if (self%comm%size == 1) return
+    allocate(sbuf(size(self%recv_idx)), rbuf(size(self%send_idx)))
+    sbuf = x(self%recv_idx)
+    call self%comm%exchange_r(self%nbr, self%recv_ptr, sbuf, self%send_ptr, rbuf)
+    do i = 1, size(self%send_idx)
+      x(self%send_idx(i)) = min(x(self%send_idx(i)), rbuf(i))
+    end do
+  end subroutine export_min
 
   subroutine free(self)
     class(index_map_t), intent(inout) :: self

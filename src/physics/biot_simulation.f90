@@ -23,6 +23,7 @@ module biot_simulation
   use biot_config, only: biot_config_t
   use source_config, only: source_config_t, read_sources
   use dist_mesh, only: dist_mesh_t
+  use mesh_pieces, only: mesh_pieces_t
   use field_output, only: field_output_t
   use poromechanics, only: poromechanics_t, iu, iq, ipr
   use biot_precon, only: biot_precon_t
@@ -98,9 +99,14 @@ contains
     type(dist_mesh_t), intent(in), target :: mesh
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
+    type(mesh_pieces_t) :: pieces
     self%mesh => mesh
     call self%phys%init(mesh, self%mats, self%bcs, self%srcs, self%bcfg%beta(), status)
     call agree(self%comm, status)
+    if (.not. status%ok()) return
+    call pieces%build(mesh)
+    call self%phys%mech%check_anchored(mesh, pieces, status)
+    call pieces%free()
     if (.not. status%ok()) return
     associate (nu => self%phys%mech%u%map%n_global, nq => self%phys%qd%map%n_global, np => self%phys%pd%map%n_global)
       call log%info('unknowns: u '//itoa(int(nu))//', q '//itoa(int(nq))//', p '//itoa(int(np))//', total '// &

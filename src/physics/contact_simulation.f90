@@ -22,7 +22,8 @@ module contact_simulation
   use dist_mesh, only: dist_mesh_t
   use field_output, only: field_output_t
   use fracture_output, only: fracture_output_t
-  use contact, only: contact_t
+  use contact, only: contact_t, state_open
+  use mesh_pieces, only: mesh_pieces_t
   use contact_precon, only: contact_precon_t
   use simulation, only: simulation_t, foreign_len, step_stats_t
   implicit none
@@ -44,6 +45,8 @@ module contact_simulation
     real(rp), allocatable :: dx(:)                  !< Newton update of the block vector
     real(rp), allocatable :: dsc(:)                 !< scaling of the block system
     real(rp) :: lf = 0.0_rp                         !< load factor of the step
+    type(mesh_pieces_t) :: pieces                   !< connected pieces of the mesh (faults cut them)
+    integer(gp) :: open_checked = -1                !< open elements when the pieces were last checked
   contains
     procedure :: name
     procedure :: read_deck
@@ -116,7 +119,8 @@ contains
                         self%solver%method /= 'mumps' .and. self%ccfg%block /= 'classical', status)
     call agree(self%comm, status)
     if (.not. status%ok()) return
-    call self%phys%mech%check_anchored(self%comm, status)
+    call self%pieces%build(mesh)
+    call check_pieces(self, status)
     if (.not. status%ok()) return
     call log%info('unknowns: u '//itoa(int(self%phys%mech%u%map%n_global))//', t '// &
       itoa(int(self%phys%t%map%n_global))//' ('//itoa(int(mesh%iface_map%n_global))//' interface elements, '// &
@@ -167,6 +171,8 @@ contains
     type(error_status_t), intent(inout) :: status
     real(rp) :: t0
     integer(ip) :: u0, u1
+    call check_pieces(self, status)
+    if (.not. status%ok()) return
     call sys%reset()
     self%dx = 0.0_rp
     sys%a => self%phys%sys
@@ -188,6 +194,35 @@ contains
     sys%k_ref => self%phys%sys%a(self%phys%bu, self%phys%bu)
     sys%b_ref => self%phys%rhs(u0:u1)
   end subroutine linear_system
+
+  !> Every piece of the mesh, with the pieces joined by interface elements
+  !> that are not open, must be held by the displacement conditions (checked
+  !> again whenever the number of open elements changes). Collective.
+  subroutine check_pieces(self, status)
+    type(contact_simulation_t), intent(inout) :: self
+    type(error_status_t), intent(inout) :: status
+    integer(gp), allocatable :: joins(:,:)
+    integer(gp) :: n_open, pair(2)
+    integer(ip) :: e, n, j
+    associate (mesh => self%mesh, st => self%phys%state)
+      n_open = self%comm%sum(int(count(st(1:mesh%iface_map%n_owned) == state_open), gp))
+      if (n_open == self%open_checked) return
+      ! the distinct pairs of pieces that holding owned elements join
+      allocate(joins(2, 8))
+      n = 0
+      do e = 1, mesh%iface_map%n_owned
+        if (st(e) == state_open) cycle
+        pair = [self%pieces%label(mesh%iface_nodes(1, 1, e)), self%pieces%label(mesh%iface_nodes(1, 2, e))]
+        if (pair(1) == pair(2)) cycle
+        if (any([(joins(1, j) == pair(1) .and. joins(2, j) == pair(2), j = 1, n)])) cycle
+        if (n == size(joins, 2)) joins = reshape([joins, joins], [2, 2 * n])
+        n = n + 1
+        joins(:, n) = pair
+      end do
+      call self%phys%mech%check_anchored(mesh, self%pieces, status, joins(:, 1:n))
+      if (status%ok()) self%open_checked = n_open
+    end associate
+  end subroutine check_pieces
 
   !> Symmetric scaling 1/sqrt of the diagonal of K (u rows) and of H~ (t rows).
   subroutine scaling(self)

@@ -19,6 +19,7 @@ module elastic_simulation
   use deck, only: deck_t
   use mesh_config, only: mesh_config_t
   use dist_mesh, only: dist_mesh_t
+  use mesh_pieces, only: mesh_pieces_t
   use field_output, only: field_output_t
   use elasticity, only: elasticity_t
   use simulation, only: simulation_t, foreign_len, step_stats_t
@@ -77,11 +78,14 @@ contains
     type(dist_mesh_t), intent(in), target :: mesh
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
+    type(mesh_pieces_t) :: pieces
     self%mesh => mesh
     call self%mech%init(mesh, self%mats, self%bcs, status)
     call agree(self%comm, status)
     if (.not. status%ok()) return
-    call self%mech%check_anchored(self%comm, status)
+    call pieces%build(mesh)
+    call self%mech%check_anchored(mesh, pieces, status)
+    call pieces%free()
     if (.not. status%ok()) return
     call log%info('displacement dofs: '//itoa(int(self%mech%u%map%n_global))//', matrix non-zeros: '// &
                   itoa(int(self%mech%k%global_nnz())))

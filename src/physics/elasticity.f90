@@ -19,6 +19,8 @@ module elasticity
   use material_config, only: material_config_t
   use boundary_config, only: boundary_config_t
   use vector_function, only: vector_function_t
+  use mesh_pieces, only: mesh_pieces_t
+  use rigid_modes, only: check_rigid_modes
   implicit none
   private
 
@@ -357,21 +359,26 @@ contains
     end do
   end subroutine cell_stress
 
-  !> Set status when a displacement component is prescribed nowhere: the
-  !> solid could then translate as a rigid body and K would be singular.
-  !> Collective; every rank gets the same status.
-  subroutine check_anchored(self, comm, status)
+  !> Set status (the same on every rank) when a piece of the mesh, or a
+  !> group of pieces joined by interface elements that hold (joins: pairs
+  !> of piece labels, see rigid_modes), can move as a rigid body under the
+  !> prescribed displacements. Collective.
+  subroutine check_anchored(self, mesh, pieces, status, joins)
     class(elasticity_t), intent(in) :: self
-    type(parallel_comm_t), intent(inout) :: comm
+    type(dist_mesh_t), intent(in) :: mesh
+    type(mesh_pieces_t), intent(in) :: pieces
     type(error_status_t), intent(inout) :: status
-    logical :: free_comp(3)
+    integer(gp), intent(in), optional :: joins(:,:)
+    logical, allocatable :: fixed(:,:)
+    integer(ip) :: i
     integer :: c
-    do c = 1, 3
-      free_comp(c) = .not. comm%any_true(any(self%fixed(c::3)))
+    allocate(fixed(3, mesh%n_nodes))
+    do i = 1, mesh%n_nodes
+      do c = 1, 3
+        fixed(c, i) = self%fixed(self%u%dof(i, c))
+      end do
     end do
-    if (any(free_comp)) call status%set('no displacement condition prescribes u'// &
-      trim(merge('x', merge('y', 'z', free_comp(2)), free_comp(1)))// &
-      ' anywhere: the solid can move as a rigid body (add a &boundary with type = ''displacement'')', 1)
+    call check_rigid_modes(mesh, pieces, fixed, status, joins)
   end subroutine check_anchored
 
   subroutine free(self)
