@@ -30,6 +30,7 @@ module time_loop
   use step_schedule, only: step_schedule_t
   use newton_loop, only: newton_loop_t
   use run_checkpoint, only: save_run, resume_run
+  use run_parameters, only: record_parameters
   implicit none
   private
 
@@ -111,6 +112,8 @@ contains
     type(error_status_t) :: status
     character(len=path_len) :: base
     call read_physics_groups(comm, log, d, run, sim, mcfg, status)
+    ! the resolved deck, before anything can fail (a failed run leaves it too)
+    if (status%ok()) call record_parameters(comm, log, d%path, run, mcfg, sim, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
     call rs%schedule%init(run, sim%transient)
 
