@@ -5,7 +5,8 @@
 !>                        'contact' (elasticity with frictional faults, &fault
 !>                        and &contact groups); the driver checks the name
 !>                        against simulation_factory                          ['elasticity']
-!>           verbosity    0 quiet, 1 progress lines, 2 also the deck echo     [1]
+!>           verbosity    screen: 0 quiet, 1 progress lines, 2 also the
+!>                        parameters; the log file always gets all of them [1]
 !>           restart      checkpoint file to resume from (written by a run of
 !>                        the same deck and physics on the same number of
 !>                        ranks); the run goes on at the step after the

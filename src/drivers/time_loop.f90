@@ -148,7 +148,7 @@ contains
 
   !> The deck groups of the mesh and of the physics (and, for a physics that
   !> steps in time, the time-step variables), read and checked; the values
-  !> are echoed to the log at verbosity 2. Collective.
+  !> are echoed to the log by record_parameters. Collective.
   subroutine read_physics_groups(comm, log, d, run, sim, mcfg, status)
     type(parallel_comm_t), intent(inout) :: comm
     type(logger_t), intent(inout) :: log
