@@ -29,9 +29,12 @@ class Run:
         if not os.path.exists(mesh):
             raise FileNotFoundError(f"no geoblock mesh file {mesh} (is {directory} the output directory of a "
                                     f"run with prefix '{prefix}'?)")
-        with h5py.File(mesh, "r") as f:
-            self.coords = np.array(f["coords"])          # (n_nodes, 3)
-            self.conn = np.array(f["connectivity"])      # (n_cells, 8), 0-based
+        try:
+            with h5py.File(mesh, "r") as f:
+                self.coords = np.array(f["coords"])          # (n_nodes, 3)
+                self.conn = np.array(f["connectivity"])      # (n_cells, 8), 0-based
+        except (OSError, KeyError) as e:
+            raise OSError(f"cannot read the mesh file {mesh}: {e}") from None
         pat = re.compile(re.escape(prefix) + r"_(\d{4,})\.h5$")
         steps = []
         for path in glob.glob(os.path.join(directory, prefix + "_*.h5")):
