@@ -152,9 +152,10 @@ class PoroParams:
     @classmethod
     def from_namelist(cls, material):
         """Build from a dict with the deck's &material names: young, poisson,
-        biot, biot_modulus, permeability, viscosity."""
+        biot, biot_modulus, permeability, viscosity (e.g. a &material of
+        geoblock_h5.read_parameters); no biot_modulus (1/M = 0) is M = inf."""
         return cls(E=float(material["young"]), nu=float(material["poisson"]),
-                   b=float(material["biot"]), M=float(material["biot_modulus"]),
+                   b=float(material["biot"]), M=float(material.get("biot_modulus", math.inf)),
                    k=float(material["permeability"]),
                    mu=float(material["viscosity"]))
 
@@ -720,11 +721,17 @@ def plot_mandel_example(path):
 
 
 if __name__ == "__main__":
+    import argparse
     import os
-    import sys
-    out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(
-        os.path.dirname(os.path.abspath(__file__)), "mandel_example.png")
-    plot_mandel_example(out)
+    ap = argparse.ArgumentParser(description="Analytical Terzaghi and Mandel solutions; run as a script it "
+                                 "plots the Mandel example and prints the derived parameters.")
+    ap.add_argument("png", nargs="?", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                                           "mandel_example.png"), help="figure file")
+    out = ap.parse_args().png
+    try:
+        plot_mandel_example(out)
+    except OSError as e:
+        raise SystemExit(f"analytical.py: error: {e}")
     par = PoroParams(**EXAMPLE_PARAMS)
     for key, val in par.summary().items():
         print(f"{key:10s} {val:.6g}")

@@ -63,6 +63,9 @@ def relative_l2(num, ref, mask=None):
 
 
 if __name__ == "__main__":
+    import argparse
+    argparse.ArgumentParser(description="Analytical fracture solutions (Sneddon opening, inclined crack); run "
+                            "as a script it checks itself.").parse_args()
     # self-check: the slip equals the opening of a crack under the excess shear
     x = np.linspace(-1.0, 1.0, 11)
     slip, tn, tt = inclined_crack(x, 1.0, 1.0e7, 20.0, 30.0, 1.0e10, 0.25)

@@ -4,6 +4,7 @@ usage: /usr/bin/python3 postproc/plot_convergence.py [DIR] [PREFIX] [OUT.png]
 Reads DIR/PREFIX_residuals.csv (step, time, newton, iteration, relative
 residual), written by every run; one curve per linear solve (a step's Newton
 iterations each have one), coloured by step."""
+import argparse
 import os
 import sys
 
@@ -12,12 +13,24 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from geoblock_h5 import script_main  # noqa: E402
+
 
 def main():
-    d = sys.argv[1] if len(sys.argv) > 1 else "out"
-    prefix = sys.argv[2] if len(sys.argv) > 2 else "mandel"
-    png = sys.argv[3] if len(sys.argv) > 3 else os.path.join(d, prefix + "_convergence.png")
-    data = np.genfromtxt(os.path.join(d, prefix + "_residuals.csv"), delimiter=",", names=True)
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dir", nargs="?", default="out", help="output directory of the run (default out)")
+    ap.add_argument("prefix", nargs="?", default="mandel", help="output prefix of the run (default mandel)")
+    ap.add_argument("png", nargs="?", help="figure file (default DIR/PREFIX_convergence.png)")
+    args = ap.parse_args()
+    d, prefix = args.dir, args.prefix
+    png = args.png or os.path.join(d, prefix + "_convergence.png")
+    csv = os.path.join(d, prefix + "_residuals.csv")
+    if not os.path.isfile(csv):
+        raise FileNotFoundError(f"no residual history {csv}")
+    data = np.genfromtxt(csv, delimiter=",", names=True)
+    if data.dtype.names is None or "relative_residual" not in data.dtype.names:
+        raise ValueError(f"{csv} is not a geoblock residual history")
     fig, ax = plt.subplots(figsize=(6, 4.2))
     steps = np.unique(data["step"]).astype(int)
     cmap = plt.get_cmap("viridis")
@@ -40,4 +53,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    script_main(main)

@@ -13,8 +13,11 @@ projections of the element centres on the mean in-plane direction m1 (the
 the fault extruded along z every column of elements gives the same curve.
 With --case, the relative L2 errors over the middle 80 % of the fracture
 (|s| <= 0.8 b) are printed as 'error <quantity> <value>' lines, and --check
-TOL makes the exit status nonzero when one exceeds TOL. The analytical
-parameters default to those of input/sneddon.nml and input/single_fracture.nml.
+TOL makes the exit status nonzero when one exceeds TOL. Young's modulus and
+Poisson's ratio (first &material) and, for sneddon, the pressure (first
+&fault) are read from the run's <run>_parameters.nml; an option given on the
+command line wins. The other analytical parameters default to those of
+input/sneddon.nml and input/single_fracture.nml.
 Needs numpy, h5py and (for the figure) matplotlib.
 """
 import argparse
@@ -24,7 +27,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from geoblock_h5 import Run  # noqa: E402
+from geoblock_h5 import Run, script_main  # noqa: E402
 from fracture_analytical import sneddon_opening, inclined_crack, relative_l2  # noqa: E402
 
 
@@ -43,9 +46,9 @@ def main():
     ap.add_argument("--case", choices=["sneddon", "phan"], help="analytical reference")
     ap.add_argument("--step", type=int, default=-1)
     ap.add_argument("--half-length", type=float, default=1.0, help="b [m]")
-    ap.add_argument("--young", type=float, default=1.0e10)
-    ap.add_argument("--poisson", type=float, default=0.25)
-    ap.add_argument("--pressure", type=float, default=1.0e6, help="sneddon: p [Pa]")
+    ap.add_argument("--young", type=float, help="E [Pa] (default: the run's)")
+    ap.add_argument("--poisson", type=float, help="nu (default: the run's)")
+    ap.add_argument("--pressure", type=float, help="sneddon: p [Pa] (default: the run's first fault)")
     ap.add_argument("--sigma", type=float, default=1.0e7, help="phan: compression [Pa]")
     ap.add_argument("--psi", type=float, default=20.0, help="phan: crack to load angle [deg]")
     ap.add_argument("--friction", type=float, default=30.0, help="phan: friction angle [deg]")
@@ -54,6 +57,13 @@ def main():
     args = ap.parse_args()
 
     run = Run(os.path.dirname(args.run) or ".", os.path.basename(args.run))
+    if args.case and None in (args.young, args.poisson, args.pressure):
+        par = run.parameters()
+        mat = par["material"][0]
+        args.young = float(mat["young"]) if args.young is None else args.young
+        args.poisson = float(mat["poisson"]) if args.poisson is None else args.poisson
+        if args.pressure is None:
+            args.pressure = float(par["fault"][0]["pressure"]) if "fault" in par else 0.0
     s, jump, trac, status = fracture_fields(run, args.step)
     order = np.argsort(s)
     slip = np.hypot(jump[:, 1], jump[:, 2])
@@ -105,4 +115,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    script_main(main)

@@ -384,6 +384,9 @@ def check_plot(s):
 
 
 def main():
+    import argparse
+    argparse.ArgumentParser(description="Self-checks of postproc/analytical.py (Terzaghi, Mandel); one line "
+                            "per check and a summary.").parse_args()
     s = Suite("analytical")
     np.seterr(all="raise", under="ignore")
     for part in (check_params, check_terzaghi, check_roots, check_mandel, check_plot):

@@ -21,7 +21,9 @@ module logger
     !> lines logged before the file was opened (written to it when it opens)
     character(len=msg_len), allocatable :: pending(:)
     integer :: n_pending = 0
-    integer :: verbosity = 1        !< 0 quiet, 1 normal, 2 detailed
+    !> what goes to the screen: 0 warnings and errors only, 1 also the info
+    !> lines, 2 also the detail lines; the log file always gets them all
+    integer :: verbosity = 1
   contains
     procedure :: init
     procedure :: open_file
@@ -87,13 +89,16 @@ contains
     self%pending(self%n_pending) = line
   end subroutine to_file
 
-  !> A line for the user (rank 0).
+  !> A line for the user (rank 0): on the screen unless verbosity is 0, in
+  !> the log file always.
   subroutine info(self, msg)
     class(logger_t), intent(inout) :: self
     character(len=*), intent(in) :: msg
-    if (self%rank /= 0 .or. self%verbosity < 1) return
-    write(output_unit, '(a)') trim(msg)
-    flush(output_unit)
+    if (self%rank /= 0) return
+    if (self%verbosity >= 1) then
+      write(output_unit, '(a)') trim(msg)
+      flush(output_unit)
+    end if
     call to_file(self, msg)
   end subroutine info
 

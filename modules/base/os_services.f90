@@ -16,7 +16,8 @@ module os_services
   private
 
   public :: make_directory, rename_path, path_kind, path_missing, path_file, path_directory, end_process, &
-            catch_stop_signals, stop_requested, signal_name, file_size
+            catch_stop_signals, stop_requested, signal_name, file_size, &
+            absolute_path
 
   !> what a path names (path_kind)
   integer, parameter :: path_missing = 0, path_file = 1, path_directory = 2
@@ -65,6 +66,12 @@ module os_services
       import :: c_int, c_char
       character(kind=c_char), intent(in) :: old(*), new(*)
     end function c_rename
+    !> char *getcwd(char *buf, size_t size)
+    type(c_ptr) function c_getcwd(buf, size) bind(C, name='getcwd')
+      import :: c_ptr, c_char, c_size_t
+      character(kind=c_char), intent(out) :: buf(*)
+      integer(c_size_t), value :: size
+    end function c_getcwd
     !> DIR *opendir(const char *name); int closedir(DIR *dirp)
     type(c_ptr) function c_opendir(path) bind(C, name='opendir')
       import :: c_ptr, c_char
@@ -131,6 +138,27 @@ contains
     if (c_rename(trim(old)//c_null_char, trim(new)//c_null_char) /= 0) &
       call status%set("cannot rename '"//trim(old)//"' to '"//trim(new)//"': "//errno_text(errno()))
   end subroutine rename_path
+
+  !> path (trailing blanks ignored) as an absolute path: a relative one is
+  !> put after the working directory ('' stays ''; a path that already
+  !> starts with '/' is returned as it is, as is any path when the working
+  !> directory cannot be found).
+  function absolute_path(path) result(p)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: p
+    character(kind=c_char, len=4096) :: buf
+    integer :: n
+    p = trim(path)
+    if (len(p) == 0) return
+    if (p(1:1) == '/') return
+    if (.not. c_associated(c_getcwd(buf, int(len(buf), c_size_t)))) return
+    n = index(buf, c_null_char) - 1
+    if (n < 1) return
+    if (len(p) > 1) then
+      if (p(1:2) == './') p = p(3:)
+    end if
+    p = buf(1:n)//'/'//p
+  end function absolute_path
 
   !> What path (trailing blanks ignored) names: path_missing, path_file (a
   !> regular file or anything that can be opened as one), path_directory.

@@ -1,10 +1,11 @@
-!> Small string helpers for messages.
+!> Small string helpers for messages, the log echo and written decks.
 module strings
+  use, intrinsic :: iso_fortran_env, only: int64
   use kinds, only: rp
   implicit none
   private
 
-  public :: itoa, rtoa
+  public :: itoa, rtoa, real_text, logical_text, quoted
 
 contains
 
@@ -25,4 +26,98 @@ contains
     write(t, '(g0.6)') x
     s = trim(adjustl(t))
   end function rtoa
+
+  !> A real as the shortest text that reads back as the very same double
+  !> (bit for bit), in a form a person reads at a glance: plain decimals for
+  !> magnitudes from 1e-4 to below 1e6 (0.25, 2500, 1.1), otherwise a
+  !> mantissa and a two-digit exponent at least (1.0e+10, 2.5e-12). Valid as
+  !> a value in a namelist deck.
+  function real_text(x) result(s)
+    real(rp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=40) :: t
+    integer :: d, e, ios
+    if (x /= x .or. abs(x) > huge(x)) then
+      write(t, '(g0)') x                      ! NaN or Infinity: no short form
+      s = trim(adjustl(t))
+      return
+    end if
+    ! the fewest significant digits d that read back exactly (17 always do)
+    do d = 1, 17
+      write(t, '(es40.' // itoa(d - 1) // 'e3)') x
+      if (same_bits(t, x)) exit
+    end do
+    read(t(index(t, 'E') + 1:), *, iostat=ios) e
+    if (x == 0.0_rp) e = 0
+    if (e >= -4 .and. e < 6) then
+      write(t, '(f40.' // itoa(max(d - 1 - e, 0)) // ')') x
+      s = trim(adjustl(t))
+      if (index(s, '.') > 0) then
+        do while (s(len(s):len(s)) == '0')
+          s = s(1:len(s) - 1)
+        end do
+        if (s(len(s):len(s)) == '.') s = s(1:len(s) - 1)
+      end if
+      if (s(1:1) == '.') s = '0'//s
+      if (len(s) > 1) then
+        if (s(1:2) == '-.') s = '-0'//s(2:)
+      end if
+    else
+      write(t, '(es40.' // itoa(max(d - 1, 1)) // 'e3)') x
+      s = trim(adjustl(t))
+      s = mantissa_exponent(s)
+    end if
+    if (.not. same_bits(s, x)) then
+      write(t, '(es24.16e3)') x               ! never expected; exact all the same
+      s = trim(adjustl(t))
+    end if
+  end function real_text
+
+  !> 'd.dddE+eee' as 'd.ddde+ee' (at least two exponent digits).
+  function mantissa_exponent(es) result(s)
+    character(len=*), intent(in) :: es
+    character(len=:), allocatable :: s
+    integer :: p
+    character :: sgn
+    p = index(es, 'E')
+    sgn = es(p+1:p+1)
+    s = es(p+2:)
+    do while (len(s) > 2 .and. s(1:1) == '0')
+      s = s(2:)
+    end do
+    s = es(1:p-1)//'e'//sgn//s
+  end function mantissa_exponent
+
+  !> Whether text t reads as exactly x (sign of zero included).
+  logical function same_bits(t, x)
+    character(len=*), intent(in) :: t
+    real(rp), intent(in) :: x
+    real(rp) :: y
+    integer :: ios
+    read(t, *, iostat=ios) y
+    same_bits = ios == 0
+    if (same_bits) same_bits = transfer(y, 1_int64) == transfer(x, 1_int64)
+  end function same_bits
+
+  !> .true. or .false.
+  function logical_text(l) result(s)
+    logical, intent(in) :: l
+    character(len=:), allocatable :: s
+    s = merge('.true. ', '.false.', l)
+    s = trim(s)
+  end function logical_text
+
+  !> s (trailing blanks removed) between single quotes, a quote inside
+  !> doubled: a character value as a namelist reads it.
+  function quoted(s) result(q)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: q
+    integer :: i
+    q = "'"
+    do i = 1, len_trim(s)
+      q = q//s(i:i)
+      if (s(i:i) == "'") q = q//"'"
+    end do
+    q = q//"'"
+  end function quoted
 end module strings

@@ -19,6 +19,7 @@ module timer_set
   contains
     procedure :: start
     procedure :: stop => stop_timer
+    procedure :: add
     procedure :: elapsed
     procedure :: report
   end type timer_set_t
@@ -64,6 +65,17 @@ contains
     self%started(i) = -1.0_rp
     if (present(seconds)) seconds = dt
   end subroutine stop_timer
+
+  !> Add an interval measured elsewhere (seconds) to a timer, as one call.
+  subroutine add(self, name, seconds)
+    class(timer_set_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    real(rp), intent(in) :: seconds
+    integer :: i
+    i = find(self, name)
+    self%total(i) = self%total(i) + seconds
+    self%calls(i) = self%calls(i) + 1
+  end subroutine add
 
   real(rp) function elapsed(self, name)
     class(timer_set_t), intent(inout) :: self

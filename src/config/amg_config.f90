@@ -9,12 +9,13 @@ module amg_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len
+  use deck, only: deck_t, line_len
   use amg_params, only: amg_params_t
+  use param_group, only: param_group_t
   implicit none
   private
 
-  public :: read_amg_config
+  public :: read_amg_config, describe_amg_config
 
 contains
 
@@ -31,7 +32,6 @@ contains
     type(error_status_t) :: vstat
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(32)
     namelist /amg/ num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor, &
                    agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths, strong_threshold, &
                    max_row_sum, max_levels, max_coarse_size, relax_type, num_sweeps, relax_wt, print_level
@@ -64,8 +64,30 @@ contains
       call status%set(msg)
       return
     end if
-    echo = ''
-    write(echo, nml=amg, iostat=ios)
-    call d%echo(log, echo)
   end subroutine read_amg_config
+
+  !> The resolved &amg group of params.
+  subroutine describe_amg_config(params, g)
+    type(amg_params_t), intent(in) :: params
+    type(param_group_t), intent(out) :: g
+    call g%init('amg')
+    call g%add('num_functions', params%num_functions, '-', 'unknowns per node (systems AMG)')
+    call g%add('nodal', params%nodal, '-', '0 unknown approach; 1-4, 6 nodal norms')
+    call g%add('coarsen_type', params%coarsen_type, '-', 'coarsening')
+    call g%add('interp_type', params%interp_type, '-', 'interpolation')
+    call g%add('p_max_elmts', params%p_max_elmts, '-', 'interpolation entries per row (0: all)')
+    call g%add('trunc_factor', params%trunc_factor, '-', 'interpolation truncation factor')
+    call g%add('agg_num_levels', params%agg_num_levels, '-', 'levels of aggressive coarsening')
+    call g%add('agg_interp_type', params%agg_interp_type, '-', 'interpolation of the aggressive levels')
+    call g%add('agg_p_max_elmts', params%agg_p_max_elmts, '-', 'entries per row, aggressive levels (0: all)')
+    call g%add('num_paths', params%num_paths, '-', 'paths of aggressive coarsening')
+    call g%add('strong_threshold', params%strong_threshold, '-', 'strength of connection')
+    call g%add('max_row_sum', params%max_row_sum, '-', 'weakens diagonally dominant rows (1: off)')
+    call g%add('max_levels', params%max_levels, '-', 'largest number of levels')
+    call g%add('max_coarse_size', params%max_coarse_size, '-', 'rows of the coarsest level')
+    call g%add('relax_type', params%relax_type, '-', 'smoother')
+    call g%add('num_sweeps', params%num_sweeps, '-', 'smoothing sweeps down and up')
+    call g%add('relax_wt', params%relax_wt, '-', 'weight of Jacobi / SOR smoothers')
+    call g%add('print_level', params%print_level, '-', "hypre's own output: 0 none .. 3")
+  end subroutine describe_amg_config
 end module amg_config

@@ -7,8 +7,9 @@ module biot_config
   use kinds, only: rp, msg_len
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len
+  use deck, only: deck_t, line_len
   use strings, only: rtoa
+  use param_group, only: param_group_t
   implicit none
   private
 
@@ -20,6 +21,7 @@ module biot_config
   contains
     procedure :: read => read_biot_config
     procedure :: beta
+    procedure :: describe => describe_biot_config
   end type biot_config_t
 
 contains
@@ -35,7 +37,6 @@ contains
     integer :: ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(8)
     namelist /biot/ stabilization, stab_factor
     stabilization = self%stabilization
     stab_factor = self%stab_factor
@@ -52,9 +53,6 @@ contains
     if (.not. status%ok()) return
     self%stabilization = stabilization
     self%stab_factor = stab_factor
-    echo = ''
-    write(echo, nml=biot, iostat=ios)
-    call d%echo(log, echo)
   end subroutine read_biot_config
 
   !> The stabilization factor to use (0 when switched off).
@@ -62,4 +60,13 @@ contains
     class(biot_config_t), intent(in) :: self
     beta = merge(self%stab_factor, 0.0_rp, self%stabilization)
   end function beta
+
+  !> The resolved &biot group.
+  subroutine describe_biot_config(self, g)
+    class(biot_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: g
+    call g%init('biot')
+    call g%add('stabilization', self%stabilization, '-', 'pressure-jump stabilization of the undrained limit')
+    call g%add('stab_factor', self%stab_factor, '-', 'its factor beta')
+  end subroutine describe_biot_config
 end module biot_config

@@ -20,8 +20,10 @@ module boundary_config
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len, unset_real
+  use deck, only: deck_t, line_len, unset_real
   use history_file, only: read_history, history_factor
+  use os_services, only: absolute_path
+  use param_group, only: param_group_t
   implicit none
   private
 
@@ -36,6 +38,7 @@ module boundary_config
     real(rp), allocatable :: hist_t(:), hist_f(:)
   contains
     procedure :: factor
+    procedure :: describe => describe_boundary
   end type boundary_config_t
 
 contains
@@ -53,7 +56,6 @@ contains
     integer :: k, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(16)
     namelist /boundary/ set, type, ux, uy, uz, traction, pressure, flux, history
 
     allocate(bcs(d%count('boundary')))
@@ -101,11 +103,36 @@ contains
       if (type /= 'flux' .and. flux /= unset_real) &
         call d%fail(status, 'boundary', k, 'flux', "only used with type = 'flux'")
       if (.not. status%ok()) return
-      echo = ''
-      write(echo, nml=boundary, iostat=ios)
-      call d%echo(log, echo)
     end do
   end subroutine read_boundaries
+
+  !> The resolved &boundary group: the variables of its type only.
+  subroutine describe_boundary(self, g)
+    class(boundary_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: g
+    character(len=2), parameter :: comp(3) = ['ux', 'uy', 'uz']
+    integer :: i
+    call g%init('boundary')
+    call g%add('set', self%set, '-', 'surface set')
+    call g%add('type', self%type, '-', "'displacement', 'traction', 'pressure' or 'flux'")
+    select case (self%type)
+    case ('displacement')
+      do i = 1, 3
+        if (self%fixed(i)) then
+          call g%add(comp(i), self%value(i), 'm', 'prescribed displacement component')
+        else
+          call g%add_unset(comp(i), '(free)', 'm', 'prescribed displacement component')
+        end if
+      end do
+    case ('traction')
+      call g%add('traction', self%value, 'Pa', 'prescribed traction vector')
+    case ('pressure')
+      call g%add('pressure', self%value(1), 'Pa', 'prescribed fluid pressure')
+    case ('flux')
+      call g%add('flux', self%value(1), 'm/s', 'prescribed outward normal Darcy flux')
+    end select
+    call g%add('history', absolute_path(self%history), '-', "file of 'time factor' rows scaling the value ('': none)")
+  end subroutine describe_boundary
 
   !> Multiplier of the condition's value at time t (1 without a history).
   real(rp) function factor(self, t)

@@ -26,8 +26,9 @@ module contact_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len
+  use deck, only: deck_t, line_len
   use strings, only: itoa, rtoa
+  use param_group, only: param_group_t
   implicit none
   private
 
@@ -45,6 +46,7 @@ module contact_config
     integer :: max_cuts = 4
   contains
     procedure :: read => read_contact_config
+    procedure :: describe => describe_contact_config
   end type contact_config_t
 
 contains
@@ -60,7 +62,6 @@ contains
     integer :: max_newton, max_cuts, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(16)
     namelist /contact/ stabilization, block, schur_precon, aug_scale, schur_solve, max_newton, newton_tol, &
                        status_tol, max_cuts
 
@@ -97,8 +98,21 @@ contains
     self%stabilization = stabilization; self%block = block; self%schur_precon = schur_precon
     self%aug_scale = aug_scale; self%schur_solve = schur_solve; self%max_newton = max_newton; self%newton_tol = newton_tol
     self%status_tol = status_tol; self%max_cuts = max_cuts
-    echo = ''
-    write(echo, nml=contact, iostat=ios)
-    call d%echo(log, echo)
   end subroutine read_contact_config
+
+  !> The resolved &contact group.
+  subroutine describe_contact_config(self, g)
+    class(contact_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: g
+    call g%init('contact')
+    call g%add('stabilization', self%stabilization, '-', "'algebraic' (jump stabilization) or 'none'")
+    call g%add('block', self%block, '-', "(u, t) preconditioner: 'reordered', 'classical' or 'augmented'")
+    call g%add('schur_precon', self%schur_precon, '-', "classical: 'boomeramg' or 'jacobi' for -S")
+    call g%add('aug_scale', self%aug_scale, '-', 'scale of the regular diagonal H~ (and D)')
+    call g%add('schur_solve', self%schur_solve, '-', "how S* is applied: 'vcycle' or 'inner_cg'")
+    call g%add('max_newton', self%max_newton, '-', 'Newton / active-set iterations per load step')
+    call g%add('newton_tol', self%newton_tol, '-', 'relative size of the last Newton update')
+    call g%add('status_tol', self%status_tol, '-', 'relative tolerance of the status checks')
+    call g%add('max_cuts', self%max_cuts, '-', 'halvings of a load step that does not converge')
+  end subroutine describe_contact_config
 end module contact_config

@@ -29,9 +29,11 @@ module fault_config
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len, unset_real
+  use deck, only: deck_t, line_len, unset_real
   use strings, only: rtoa
   use history_file, only: read_history, history_factor
+  use os_services, only: absolute_path
+  use param_group, only: param_group_t
   implicit none
   private
 
@@ -54,8 +56,10 @@ module fault_config
     character(len=path_len) :: pressure_history = ''
     character(len=8) :: initial_state = 'stick'
     real(rp), allocatable :: hist_t(:), hist_f(:)
+    logical :: box_geometry = .true.                 !< the geometry variables apply (box mesh)
   contains
     procedure :: factor
+    procedure :: describe => describe_fault
     procedure :: normal_index
     procedure :: dip_index
   end type fault_config_t
@@ -79,7 +83,6 @@ contains
     integer :: k, j, i, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(24)
     character(len=8) :: ic
     namelist /fault/ name, normal_axis, position, dip, dip_axis, lower, upper, friction_angle, cohesion, &
                      pressure, pressure_history, initial_state
@@ -164,9 +167,7 @@ contains
       faults(k)%pressure = pressure
       faults(k)%pressure_history = pressure_history
       faults(k)%initial_state = initial_state
-      echo = ''
-      write(echo, nml=fault, iostat=ios)
-      call d%echo(log, echo)
+      faults(k)%box_geometry = source == 'box'
     end do
   contains
     subroutine gmsh_refuses(var)
@@ -175,6 +176,45 @@ contains
                   "fault's geometry")
     end subroutine gmsh_refuses
   end subroutine read_faults
+
+  !> The resolved &fault group: the geometry only for a box mesh, a
+  !> bound of the extent only where the deck gave one.
+  subroutine describe_fault(self, g)
+    class(fault_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: g
+    character(len=8) :: v
+    integer :: i
+    call g%init('fault')
+    call g%add('name', self%name, '-', 'name of the fault')
+    if (self%box_geometry) then
+      call g%add('normal_axis', self%normal_axis, '-', 'axis the undipped fault is normal to')
+      call g%add('position', self%position, 'm', 'coordinate along normal_axis at mid-box along dip_axis')
+      call g%add('dip', self%dip, 'degrees', 'inclination along dip_axis')
+      call g%add('dip_axis', self%dip_axis, '-', 'axis along which the fault rises')
+      do i = 1, 3
+        write(v, '(a,i0,a)') 'lower(', i, ')'
+        if (self%lower(i) > -huge(1.0_rp)) then
+          call g%add(trim(v), self%lower(i), 'm', 'lower in-plane bound of the fault')
+        else
+          call g%add_unset(trim(v), '(none: the box edge)', 'm', 'lower in-plane bound of the fault')
+        end if
+      end do
+      do i = 1, 3
+        write(v, '(a,i0,a)') 'upper(', i, ')'
+        if (self%upper(i) < huge(1.0_rp)) then
+          call g%add(trim(v), self%upper(i), 'm', 'upper in-plane bound of the fault')
+        else
+          call g%add_unset(trim(v), '(none: the box edge)', 'm', 'upper in-plane bound of the fault')
+        end if
+      end do
+    end if
+    call g%add('friction_angle', self%friction_angle, 'degrees', 'Coulomb friction angle')
+    call g%add('cohesion', self%cohesion, 'Pa', 'cohesion')
+    call g%add('pressure', self%pressure, 'Pa', 'fluid pressure on both faces')
+    call g%add('pressure_history', absolute_path(self%pressure_history), '-', &
+               "file of 'time factor' rows scaling pressure ('': none)")
+    call g%add('initial_state', self%initial_state, '-', "'stick' or 'open'")
+  end subroutine describe_fault
 
   !> Axis index 1..3 of normal_axis.
   integer function normal_index(self)

@@ -20,9 +20,10 @@ module fsai_config
   use kinds, only: rp, msg_len, name_len
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len
+  use deck, only: deck_t, line_len
   use strings, only: itoa, rtoa
   use fsai_params, only: fsai_params_t
+  use param_group, only: param_group_t
   implicit none
   private
 
@@ -34,6 +35,7 @@ module fsai_config
     real(rp) :: schur_drop = 1.0e-3_rp
   contains
     procedure :: read => read_fsai_config
+    procedure :: describe => describe_fsai_config
   end type fsai_config_t
 
 contains
@@ -49,7 +51,6 @@ contains
     character(len=name_len) :: init
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(12)
     namelist /afsai/ max_steps, step_size, tol, init, drop
     namelist /block_fsai/ max_steps, step_size, tol, drop, schur_drop
 
@@ -73,9 +74,6 @@ contains
     if (.not. status%ok()) return
     self%precon%max_steps = max_steps; self%precon%step_size = step_size; self%precon%tol = tol
     self%precon%init = init; self%precon%drop = drop
-    echo = ''
-    write(echo, nml=afsai, iostat=ios)
-    call d%echo(log, echo)
 
     max_steps = self%factor%max_steps; step_size = self%factor%step_size; tol = self%factor%tol
     drop = self%factor%drop; schur_drop = self%schur_drop
@@ -93,9 +91,6 @@ contains
     if (.not. status%ok()) return
     self%factor%max_steps = max_steps; self%factor%step_size = step_size; self%factor%tol = tol
     self%factor%drop = drop; self%schur_drop = schur_drop
-    echo = ''
-    write(echo, nml=block_fsai, iostat=ios)
-    call d%echo(log, echo)
   contains
     subroutine check(group)
       character(len=*), intent(in) :: group
@@ -106,4 +101,22 @@ contains
         call d%fail(status, group, 1, 'drop', 'must lie in [0, 1) (got '//rtoa(drop)//')')
     end subroutine check
   end subroutine read_fsai_config
+
+  !> The resolved &afsai and &block_fsai groups.
+  subroutine describe_fsai_config(self, afsai, block_fsai)
+    class(fsai_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: afsai, block_fsai
+    call afsai%init('afsai')
+    call afsai%add('max_steps', self%precon%max_steps, '-', 'adaptive steps per row')
+    call afsai%add('step_size', self%precon%step_size, '-', 'entries added per row and step')
+    call afsai%add('tol', self%precon%tol, '-', 'a row stops when a step improves it by less')
+    call afsai%add('init', self%precon%init, '-', "start pattern: 'lower' or 'diagonal'")
+    call afsai%add('drop', self%precon%drop, '-', "drop entries below drop * the row's largest")
+    call block_fsai%init('block_fsai')
+    call block_fsai%add('max_steps', self%factor%max_steps, '-', 'adaptive steps per column')
+    call block_fsai%add('step_size', self%factor%step_size, '-', 'entries added per column and step')
+    call block_fsai%add('tol', self%factor%tol, '-', 'relative residual of a column')
+    call block_fsai%add('drop', self%factor%drop, '-', "drop entries below drop * the column's largest")
+    call block_fsai%add('schur_drop', self%schur_drop, '-', 'drop |s_ij| < schur_drop sqrt(|s_ii s_jj|)')
+  end subroutine describe_fsai_config
 end module fsai_config

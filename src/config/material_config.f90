@@ -16,8 +16,9 @@ module material_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len, unset_real
+  use deck, only: deck_t, line_len, unset_real
   use strings, only: rtoa
+  use param_group, only: param_group_t
   implicit none
   private
 
@@ -32,6 +33,12 @@ module material_config
     real(rp) :: inv_biot_modulus = 0.0_rp      !< 1/M [1/Pa]
     real(rp) :: perm(3, 3) = 0.0_rp            !< permeability tensor [m^2]; 0 = not given
     real(rp) :: viscosity = 1.0e-3_rp
+    ! as the deck gave them (unset_real: not given), for describe
+    real(rp) :: biot_modulus = unset_real
+    real(rp) :: permeability = unset_real
+    real(rp) :: permeability_tensor(6) = unset_real
+  contains
+    procedure :: describe => describe_material
   end type material_config_t
 
 contains
@@ -48,7 +55,6 @@ contains
     integer :: k, j, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(16)
     namelist /material/ region, young, poisson, body_force, biot, biot_modulus, permeability, permeability_tensor, &
                         viscosity
 
@@ -113,12 +119,38 @@ contains
       if (.not. status%ok()) return
       mats(k) = material_config_t(region=region, young=young, poisson=poisson, body_force=body_force, biot=biot, &
         inv_biot_modulus=merge(0.0_rp, 1.0_rp / max(biot_modulus, tiny(1.0_rp)), biot_modulus == unset_real), &
-        perm=t, viscosity=viscosity)
-      echo = ''
-      write(echo, nml=material, iostat=ios)
-      call d%echo(log, echo)
+        perm=t, viscosity=viscosity, biot_modulus=biot_modulus, permeability=permeability, &
+        permeability_tensor=permeability_tensor)
     end do
   end subroutine read_materials
+
+  !> The resolved &material group (the physics drops what it does not use).
+  subroutine describe_material(self, g)
+    class(material_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: g
+    call g%init('material')
+    call g%add('region', self%region, '-', 'mesh region')
+    call g%add('young', self%young, 'Pa', "drained Young's modulus")
+    call g%add('poisson', self%poisson, '-', "drained Poisson's ratio")
+    call g%add('body_force', self%body_force, 'N/m^3', 'body force per unit volume')
+    call g%add('biot', self%biot, '-', 'Biot coefficient')
+    if (self%biot_modulus /= unset_real) then
+      call g%add('biot_modulus', self%biot_modulus, 'Pa', 'Biot modulus M')
+    else
+      call g%add_unset('biot_modulus', '(not set: 1/M = 0)', 'Pa', 'Biot modulus M (incompressible fluid and grains)')
+    end if
+    if (self%permeability /= unset_real) then
+      call g%add('permeability', self%permeability, 'm^2', 'isotropic permeability')
+    else
+      call g%add_unset('permeability', '(not set)', 'm^2', 'isotropic permeability')
+    end if
+    if (all(self%permeability_tensor /= unset_real)) then
+      call g%add('permeability_tensor', self%permeability_tensor, 'm^2', 'permeability xx, yy, zz, xy, yz, xz')
+    else
+      call g%add_unset('permeability_tensor', '(not set)', 'm^2', 'permeability xx, yy, zz, xy, yz, xz')
+    end if
+    call g%add('viscosity', self%viscosity, 'Pa s', 'fluid viscosity')
+  end subroutine describe_material
 
   !> Eigenvalues of a symmetric 3x3 matrix (Jacobi rotations).
   subroutine sym_eigenvalues(a_in, ev)

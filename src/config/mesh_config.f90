@@ -21,8 +21,10 @@ module mesh_config
   use kinds, only: rp, ip, path_len, msg_len
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len, unset_int, unset_real
+  use deck, only: deck_t, line_len, unset_int, unset_real
   use strings, only: itoa, rtoa
+  use os_services, only: absolute_path
+  use param_group, only: param_group_t
   implicit none
   private
 
@@ -37,11 +39,12 @@ module mesh_config
     real(rp) :: core_lower(3) = 0.0_rp, core_upper(3) = 0.0_rp   !< [m], used where core_n > 0
   contains
     procedure :: read => read_mesh_config
+    procedure :: describe => describe_mesh_config
   end type mesh_config_t
 
 contains
 
-  !> Read and check &mesh; echo it to the log.
+  !> Read and check &mesh (describe gives its resolved values).
   subroutine read_mesh_config(self, d, log, status)
     class(mesh_config_t), intent(inout) :: self
     type(deck_t), intent(in) :: d
@@ -55,7 +58,6 @@ contains
     real(rp) :: tol
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(32)
     character(len=32) :: got
     integer :: i
     namelist /mesh/ source, file, nx, ny, nz, lower, upper, grading, core_n, core_lower, core_upper
@@ -140,8 +142,29 @@ contains
     self%core_upper = merge(core_upper, 0.0_rp, core_n > 0)
     where (core_lower == unset_real) core_lower = 0.0_rp
     where (core_upper == unset_real) core_upper = 0.0_rp
-    echo = ''
-    write(echo, nml=mesh, iostat=ios)
-    call d%echo(log, echo)
   end subroutine read_mesh_config
+
+  !> The resolved &mesh group: for a box its sizes (the core only when some
+  !> axis has one), for a Gmsh mesh the file (as an absolute path).
+  subroutine describe_mesh_config(self, g)
+    class(mesh_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: g
+    call g%init('mesh')
+    call g%add('source', self%source, '-', "'box' (generated) or 'gmsh' (MSH 4.1 file)")
+    if (self%source == 'gmsh') then
+      call g%add('file', absolute_path(self%file), '-', 'the mesh file')
+      return
+    end if
+    call g%add('nx', int(self%n(1)), '-', 'cells along x')
+    call g%add('ny', int(self%n(2)), '-', 'cells along y')
+    call g%add('nz', int(self%n(3)), '-', 'cells along z')
+    call g%add('lower', self%lower, 'm', 'lower corner of the box')
+    call g%add('upper', self%upper, 'm', 'upper corner of the box')
+    call g%add('grading', self%grading, '-', 'last/first cell size ratio per axis')
+    call g%add('core_n', int(self%core_n), '-', 'uniform cells of the core per axis (0: none)')
+    if (any(self%core_n > 0)) then
+      call g%add('core_lower', self%core_lower, 'm', 'lower corner of the core (axes with core_n > 0)')
+      call g%add('core_upper', self%core_upper, 'm', 'upper corner of the core (axes with core_n > 0)')
+    end if
+  end subroutine describe_mesh_config
 end module mesh_config

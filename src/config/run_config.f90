@@ -5,7 +5,8 @@
 !>                        'contact' (elasticity with frictional faults, &fault
 !>                        and &contact groups); the driver checks the name
 !>                        against simulation_factory                          ['elasticity']
-!>           verbosity    0 quiet, 1 progress lines, 2 also the deck echo     [1]
+!>           verbosity    screen: 0 quiet, 1 progress lines, 2 also the
+!>                        parameters; the log file always gets all of them [1]
 !>           restart      checkpoint file to resume from (written by a run of
 !>                        the same deck and physics on the same number of
 !>                        ranks); the run goes on at the step after the
@@ -35,8 +36,10 @@ module run_config
   use kinds, only: rp, ip, path_len, msg_len, name_len
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len, unset_real
+  use deck, only: deck_t, line_len, unset_real
   use strings, only: itoa, rtoa
+  use os_services, only: absolute_path
+  use param_group, only: param_group_t
   implicit none
   private
 
@@ -60,8 +63,10 @@ module run_config
     integer :: checkpoint_every = 0
     character(len=path_len) :: checkpoint_file = ''   !< path of the checkpoint (resolved: never blank)
     character(len=path_len) :: restart = ''           !< checkpoint to resume from ('' none)
+    character(len=path_len) :: checkpoint_given = ''  !< checkpoint_file as the deck gave it
   contains
     procedure :: read => read_run_config
+    procedure :: describe => describe_run_config
     procedure :: check_transient
   end type run_config_t
 
@@ -90,7 +95,6 @@ contains
     integer :: verbosity, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(8)
     namelist /run/ title, physics, verbosity, restart
     title = ''; physics = 'elasticity'; verbosity = 1; restart = ''
     if (d%count('run') > 0) then
@@ -108,9 +112,6 @@ contains
     self%physics = physics
     self%verbosity = verbosity
     self%restart = restart
-    echo = ''
-    write(echo, nml=run, iostat=ios)
-    call d%echo(log, echo)
   end subroutine read_run_group
 
   subroutine read_time_group(self, d, log, status)
@@ -123,7 +124,6 @@ contains
     logical :: undrained
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(16)
     namelist /time/ n_steps, dt, t_end, dt_growth, dt_max, undrained, times
     n_steps = 1; dt = unset_real; t_end = unset_real; dt_growth = 1.0_rp; dt_max = huge(1.0_rp); undrained = .true.
     times = unset_real
@@ -159,9 +159,6 @@ contains
     self%undrained = undrained
     if (allocated(self%times)) deallocate(self%times)
     if (nt > 0) self%times = times(1:nt)
-    echo = ''
-    write(echo, nml=time, iostat=ios)
-    call d%echo(log, echo)
   end subroutine read_time_group
 
   subroutine read_output_group(self, d, log, status)
@@ -175,7 +172,6 @@ contains
     logical :: fields, export_matrix
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(12)
     namelist /output/ dir, prefix, fields, export_matrix, every, checkpoint_every, checkpoint_file
     dir = 'out'; fields = .true.; export_matrix = .false.; every = 1; checkpoint_every = 0; checkpoint_file = ''
     ! default prefix: the deck's file name without directory and extension
@@ -203,6 +199,7 @@ contains
     self%every = every
     self%export_matrix = export_matrix
     self%checkpoint_every = checkpoint_every
+    self%checkpoint_given = checkpoint_file
     ! a plain name lives in the output directory, a path is taken as it is
     if (len_trim(checkpoint_file) == 0) then
       self%checkpoint_file = trim(dir)//'/'//trim(prefix)//'_checkpoint.h5'
@@ -211,9 +208,6 @@ contains
     else
       self%checkpoint_file = checkpoint_file
     end if
-    echo = ''
-    write(echo, nml=output, iostat=ios)
-    call d%echo(log, echo)
   end subroutine read_output_group
 
   !> A physics that steps in time needs dt and t_end (or times) in &time,
@@ -238,4 +232,57 @@ contains
     if (.not. self%dt_max > 0.0_rp) &
       call d%fail(status, 'time', 1, 'dt_max', 'must be positive (got '//rtoa(self%dt_max)//')')
   end subroutine check_transient
+
+  !> The resolved &run, &time and &output groups (groups(1:3)), both kinds
+  !> of stepping in &time (the physics drops the kind it does not use).
+  subroutine describe_run_config(self, groups)
+    class(run_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: groups(3)
+    associate (g => groups(1))
+      call g%init('run')
+      call g%add('title', self%title, '-', 'free text shown in the log')
+      call g%add('physics', self%physics, '-', "'elasticity', 'biot' or 'contact'")
+      call g%add('verbosity', self%verbosity, '-', 'screen: 0 quiet, 1 progress, 2 also the parameters')
+      if (len_trim(self%restart) > 0) then
+        call g%add('restart', absolute_path(self%restart), '-', 'checkpoint file the run resumed from')
+      else
+        call g%add_unset('restart', '(none)', '-', 'checkpoint file to resume from')
+      end if
+    end associate
+    associate (g => groups(2))
+      call g%init('time')
+      call g%add('n_steps', self%n_steps, '-', 'load steps; loads reach their full value at the last')
+      if (allocated(self%times)) then
+        call g%add('times', self%times, 's', 'step end times')
+      else
+        if (self%dt /= unset_real) then
+          call g%add('dt', self%dt, 's', 'first time step')
+        else
+          call g%add_unset('dt', '(not set)', 's', 'first time step')
+        end if
+        if (self%t_end /= unset_real) then
+          call g%add('t_end', self%t_end, 's', 'end time')
+        else
+          call g%add_unset('t_end', '(not set)', 's', 'end time')
+        end if
+      end if
+      call g%add('dt_growth', self%dt_growth, '-', 'ratio of successive steps')
+      if (self%dt_max < huge(1.0_rp)) then
+        call g%add('dt_max', self%dt_max, 's', 'largest step')
+      else
+        call g%add_unset('dt_max', '(none)', 's', 'largest step (none: no limit)')
+      end if
+      call g%add('undrained', self%undrained, '-', 'start with the undrained response at t = 0')
+    end associate
+    associate (g => groups(3))
+      call g%init('output')
+      call g%add('dir', self%out_dir, '-', 'output directory (relative to the working directory)')
+      call g%add('prefix', self%prefix, '-', 'file name prefix')
+      call g%add('fields', self%fields, '-', 'write HDF5 fields + XDMF')
+      call g%add('every', self%every, '-', 'write every n-th step (the first and last always)')
+      call g%add('export_matrix', self%export_matrix, '-', 'write the first system in MatrixMarket format')
+      call g%add('checkpoint_every', self%checkpoint_every, '-', 'checkpoint every n-th step (0 never)')
+      call g%add('checkpoint_file', self%checkpoint_given, '-', "checkpoint path ('': <dir>/<prefix>_checkpoint.h5)")
+    end associate
+  end subroutine describe_run_config
 end module run_config

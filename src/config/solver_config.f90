@@ -40,8 +40,9 @@ module solver_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len
+  use deck, only: deck_t, line_len
   use strings, only: itoa, rtoa
+  use param_group, only: param_group_t
   implicit none
   private
 
@@ -65,6 +66,7 @@ module solver_config
     character(len=name_len) :: mumps_layout = 'host'
   contains
     procedure :: read => read_solver_config
+    procedure :: describe => describe_solver_config
   end type solver_config_t
 
 contains
@@ -82,7 +84,6 @@ contains
     logical :: fail_on_no_convergence, elastic_reference
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(24)
     namelist /solver/ method, precon, rtol, atol, max_iter, restart, fail_on_no_convergence, block_mode, flux_precon, &
                      elastic_reference, schur, decoupling, k_precon, schur_precon, mumps_layout
 
@@ -156,8 +157,28 @@ contains
     self%k_precon = k_precon
     self%schur_precon = schur_precon
     self%mumps_layout = mumps_layout
-    echo = ''
-    write(echo, nml=solver, iostat=ios)
-    call d%echo(log, echo)
   end subroutine read_solver_config
+
+  !> The resolved &solver group (defaults resolved for the physics).
+  subroutine describe_solver_config(self, g)
+    class(solver_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: g
+    call g%init('solver')
+    call g%add('method', self%method, '-', "'fgmres', 'cg' or 'mumps'")
+    call g%add('precon', self%precon, '-', "'boomeramg', 'jacobi', 'afsai', 'hypre_fsai', 'none' or 'block'")
+    call g%add('rtol', self%rtol, '-', 'relative residual tolerance')
+    call g%add('atol', self%atol, '-', 'absolute residual tolerance')
+    call g%add('max_iter', self%max_iter, '-', 'iteration cap')
+    call g%add('restart', self%restart, '-', 'FGMRES restart length')
+    call g%add('fail_on_no_convergence', self%fail_on_no_convergence, '-', 'a solve that does not converge fails')
+    call g%add('decoupling', self%decoupling, '-', "biot: 'implicit' or 'explicit' decoupling factors")
+    call g%add('block_mode', self%block_mode, '-', "biot: 'ldu', 'ldu_cheap', 'lower', 'upper' or 'diagonal'")
+    call g%add('k_precon', self%k_precon, '-', "biot: preconditioner of K, 'boomeramg' or 'afsai'")
+    call g%add('flux_precon', self%flux_precon, '-', "biot: preconditioner of A, 'jacobi', 'boomeramg' or 'afsai'")
+    call g%add('elastic_reference', self%elastic_reference, '-', 'also solve K u = f once with CG + BoomerAMG')
+    call g%add('schur', self%schur, '-', "biot: 'fixed_stress', 'algebraic' or 'explicit' Schur complement")
+    call g%add('schur_precon', self%schur_precon, '-', "biot: Schur preconditioner, 'boomeramg' or 'afsai'")
+    call g%add('mumps_layout', self%mumps_layout, '-', "'host' (rank 0 factorizes: bit-identical repeats) or "// &
+               "'distributed'")
+  end subroutine describe_solver_config
 end module solver_config

@@ -8,7 +8,8 @@ module source_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
   use logger, only: logger_t
-  use deck, only: deck_t, line_len, echo_len, unset_real
+  use deck, only: deck_t, line_len, unset_real
+  use param_group, only: param_group_t
   implicit none
   private
 
@@ -17,6 +18,8 @@ module source_config
   type :: source_config_t
     character(len=name_len) :: region = ''
     real(rp) :: rate = 0.0_rp
+  contains
+    procedure :: describe => describe_source
   end type source_config_t
 
 contains
@@ -32,7 +35,6 @@ contains
     integer :: k, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    character(len=echo_len) :: echo(8)
     namelist /source/ region, rate
     allocate(srcs(d%count('source')))
     do k = 1, size(srcs)
@@ -48,9 +50,15 @@ contains
       if (rate == unset_real) call d%fail(status, 'source', k, 'rate', 'required')
       if (.not. status%ok()) return
       srcs(k) = source_config_t(region, rate)
-      echo = ''
-      write(echo, nml=source, iostat=ios)
-      call d%echo(log, echo)
     end do
   end subroutine read_sources
+
+  !> The resolved &source group.
+  subroutine describe_source(self, g)
+    class(source_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: g
+    call g%init('source')
+    call g%add('region', self%region, '-', 'mesh region')
+    call g%add('rate', self%rate, '1/s', 'fluid volume injected per unit rock volume and second')
+  end subroutine describe_source
 end module source_config

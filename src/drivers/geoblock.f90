@@ -1,7 +1,7 @@
 !> geoblock: coupled poromechanics and fault mechanics on distributed meshes.
 !>
 !> Usage: mpirun -np N geoblock DECK.nml
-!>        geoblock --check DECK.nml     read and check the deck, echo it, no run
+!>        geoblock --check DECK.nml     read and check the deck, print it resolved, no run
 !>        geoblock --help | --version
 !> The deck is a file of namelist groups (see README.md and input/). The
 !> physics named in &run is made by simulation_factory and run by the one
@@ -20,6 +20,7 @@ program geoblock
   use simulation, only: simulation_t
   use simulation_factory, only: make_simulation, physics_names
   use time_loop, only: run_simulation, read_physics_groups
+  use run_parameters, only: show_parameters
   use build_info, only: geoblock_version, git_commit, built_against
   implicit none
 
@@ -115,7 +116,7 @@ contains
     character(len=*), parameter :: nl = new_line('a')
     integer :: k
     s = 'usage: mpirun -np N geoblock DECK.nml     run the deck'//nl// &
-        '       geoblock --check DECK.nml          read and check the deck, echo every value, run nothing'//nl// &
+        '       geoblock --check DECK.nml          read and check the deck, print it resolved, run nothing'//nl// &
         '       geoblock --help | --version'//nl//nl// &
         'A deck is a file of Fortran namelist groups (&name ... /). Groups:'//nl
     do k = 1, size(groups)
@@ -134,15 +135,17 @@ contains
         'built against: '//built_against
   end function version_text
 
-  !> --check: read every group the physics uses, echo them, and stop.
+  !> --check: read every group the physics uses, print the resolved deck
+  !> (what <prefix>_parameters.nml of a run would hold; the output is a
+  !> deck) and stop.
   subroutine check_deck()
     type(mesh_config_t) :: mcfg
-    log%verbosity = 2
-    call log%info('geoblock --check: deck '//trim(path)//', physics '//trim(run%physics))
     call read_physics_groups(comm, log, d, run, sim, mcfg, status)
     call agree(comm, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
-    call say_and_end("deck '"//trim(path)//"' is valid (physics "//trim(run%physics)//'); nothing was run')
+    call show_parameters(comm, d%path, run, mcfg, sim)
+    ! a comment line, so that the output is itself a deck
+    call say_and_end("! deck '"//trim(path)//"' is valid (physics "//trim(run%physics)//'); nothing was run')
   end subroutine check_deck
 
   !> The output directory and the log file (made by rank 0). Collective.

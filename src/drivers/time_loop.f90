@@ -30,6 +30,7 @@ module time_loop
   use step_schedule, only: step_schedule_t
   use newton_loop, only: newton_loop_t
   use run_checkpoint, only: save_run, resume_run
+  use run_parameters, only: record_parameters
   implicit none
   private
 
@@ -111,6 +112,8 @@ contains
     type(error_status_t) :: status
     character(len=path_len) :: base
     call read_physics_groups(comm, log, d, run, sim, mcfg, status)
+    ! the resolved deck, before anything can fail (a failed run leaves it too)
+    if (status%ok()) call record_parameters(comm, log, d%path, run, mcfg, sim, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
     call rs%schedule%init(run, sim%transient)
 
@@ -145,7 +148,7 @@ contains
 
   !> The deck groups of the mesh and of the physics (and, for a physics that
   !> steps in time, the time-step variables), read and checked; the values
-  !> are echoed to the log at verbosity 2. Collective.
+  !> are echoed to the log by record_parameters. Collective.
   subroutine read_physics_groups(comm, log, d, run, sim, mcfg, status)
     type(parallel_comm_t), intent(inout) :: comm
     type(logger_t), intent(inout) :: log

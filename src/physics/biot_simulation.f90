@@ -27,7 +27,8 @@ module biot_simulation
   use field_output, only: field_output_t
   use poromechanics, only: poromechanics_t, iu, iq, ipr
   use biot_precon, only: biot_precon_t
-  use simulation, only: simulation_t, foreign_len, step_stats_t
+  use param_group, only: param_group_t
+  use simulation, only: simulation_t, foreign_len, common_parameter_groups, step_stats_t
   implicit none
   private
 
@@ -49,6 +50,7 @@ module biot_simulation
     procedure :: name
     procedure :: read_deck
     procedure :: foreign_inputs
+    procedure :: parameter_groups
     procedure :: setup
     procedure :: begin_step
     procedure :: assemble
@@ -348,6 +350,22 @@ contains
     self%setup_done = .false.
     self%dt_used = -1.0_rp
   end subroutine free
+  !> The resolved groups: the shared ones, then &biot and every &source.
+  subroutine parameter_groups(self, groups)
+    class(biot_simulation_t), intent(in) :: self
+    type(param_group_t), allocatable, intent(out) :: groups(:)
+    type(param_group_t), allocatable :: common(:)
+    integer :: k, n
+    call common_parameter_groups(self, common)
+    n = size(common)
+    allocate(groups(n + size(self%srcs) + 1))
+    groups(1:n) = common
+    call self%bcfg%describe(groups(n + 1))
+    do k = 1, size(self%srcs)
+      call self%srcs(k)%describe(groups(n + 1 + k))
+    end do
+  end subroutine parameter_groups
+
   !> Groups and variables of other physics, refused in this one's deck.
   subroutine foreign_inputs(self, list)
     class(biot_simulation_t), intent(in) :: self

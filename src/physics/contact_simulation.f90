@@ -25,7 +25,8 @@ module contact_simulation
   use contact, only: contact_t, state_open
   use mesh_pieces, only: mesh_pieces_t
   use contact_precon, only: contact_precon_t
-  use simulation, only: simulation_t, foreign_len, step_stats_t
+  use param_group, only: param_group_t
+  use simulation, only: simulation_t, foreign_len, common_parameter_groups, step_stats_t
   implicit none
   private
 
@@ -51,6 +52,7 @@ module contact_simulation
     procedure :: name
     procedure :: read_deck
     procedure :: foreign_inputs
+    procedure :: parameter_groups
     procedure :: setup
     procedure :: open_output
     procedure :: begin_step
@@ -338,6 +340,22 @@ contains
     call self%phys%free()
     if (allocated(self%dx)) deallocate(self%dx, self%dsc)
   end subroutine free
+  !> The resolved groups: the shared ones, then every &fault and &contact.
+  subroutine parameter_groups(self, groups)
+    class(contact_simulation_t), intent(in) :: self
+    type(param_group_t), allocatable, intent(out) :: groups(:)
+    type(param_group_t), allocatable :: common(:)
+    integer :: k, n
+    call common_parameter_groups(self, common)
+    n = size(common)
+    allocate(groups(n + size(self%faults) + 1))
+    groups(1:n) = common
+    do k = 1, size(self%faults)
+      call self%faults(k)%describe(groups(n + k))
+    end do
+    call self%ccfg%describe(groups(n + size(self%faults) + 1))
+  end subroutine parameter_groups
+
   !> Groups and variables of other physics, refused in this one's deck.
   subroutine foreign_inputs(self, list)
     class(contact_simulation_t), intent(in) :: self

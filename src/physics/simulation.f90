@@ -41,7 +41,8 @@ module simulation
   use deck, only: deck_t
   use mesh_config, only: mesh_config_t
   use solver_config, only: solver_config_t
-  use amg_config, only: read_amg_config
+  use amg_config, only: read_amg_config, describe_amg_config
+  use param_group, only: param_group_t
   use fsai_config, only: fsai_config_t
   use material_config, only: material_config_t, read_materials
   use boundary_config, only: boundary_config_t, read_boundaries, load_histories
@@ -51,7 +52,7 @@ module simulation
   implicit none
   private
 
-  public :: simulation_t, step_stats_t, foreign_len
+  public :: simulation_t, step_stats_t, foreign_len, common_parameter_groups
 
   !> length of a foreign_inputs entry ('group%variable')
   integer, parameter :: foreign_len = 40
@@ -100,6 +101,8 @@ module simulation
     procedure :: read_common
     procedure :: foreign_inputs
     procedure :: check_foreign
+    procedure :: unused_inputs
+    procedure :: parameter_groups
     procedure :: open_output
     procedure :: accept_step
     procedure :: finish
@@ -287,34 +290,36 @@ contains
     allocate(list(0))
   end subroutine foreign_inputs
 
-  !> Refuse a deck that sets what this physics would silently ignore: its
-  !> foreign_inputs, and the &time variables of the other kind of stepping
-  !> (load steps n_steps, or time steps dt, t_end, dt_growth, dt_max,
-  !> times, undrained). The message names the group, the variable and the
+  !> Everything this physics does not use: its foreign_inputs and the
+  !> &time variables of the other kind of stepping (load steps n_steps, or
+  !> time steps dt, t_end, dt_growth, dt_max, times, undrained).
+  subroutine unused_inputs(self, list)
+    class(simulation_t), intent(in) :: self
+    character(len=foreign_len), allocatable, intent(out) :: list(:)
+    character(len=foreign_len), parameter :: time_vars(6) = [character(len=foreign_len) :: 'time%dt', &
+      'time%t_end', 'time%dt_growth', 'time%dt_max', 'time%times', 'time%undrained']
+    character(len=foreign_len), allocatable :: own(:)
+    call self%foreign_inputs(own)
+    if (self%transient) then
+      list = [own, [character(len=foreign_len) :: 'time%n_steps']]
+    else
+      list = [own, time_vars]
+    end if
+  end subroutine unused_inputs
+
+  !> Refuse a deck that sets what this physics would silently ignore
+  !> (unused_inputs). The message names the group, the variable and the
   !> physics.
   subroutine check_foreign(self, d, status)
     class(simulation_t), intent(in) :: self
     type(deck_t), intent(in) :: d
     type(error_status_t), intent(inout) :: status
     character(len=foreign_len), allocatable :: list(:)
-    character(len=foreign_len), parameter :: time_vars(6) = [character(len=foreign_len) :: 'time%dt', &
-      'time%t_end', 'time%dt_growth', 'time%dt_max', 'time%times', 'time%undrained']
     character(len=:), allocatable :: why
     integer :: j, k, p
-    integer :: n0
-    character(len=foreign_len), allocatable :: own(:)
-    call self%foreign_inputs(own)
-    n0 = size(own)
-    if (self%transient) then
-      allocate(list(n0 + 1))
-      list(n0 + 1) = 'time%n_steps'
-      why = ' (it steps in time: dt, t_end)'
-    else
-      allocate(list(n0 + size(time_vars)))
-      list(n0 + 1:) = time_vars
-      why = ' (it steps in load: n_steps)'
-    end if
-    list(1:n0) = own
+    call self%unused_inputs(list)
+    why = merge(' (it steps in time: dt, t_end)', ' (it steps in load: n_steps)  ', self%transient)
+    why = trim(why)
     do j = 1, size(list)
       p = index(list(j), '%')
       if (p == 0) then
@@ -335,4 +340,34 @@ contains
       if (.not. status%ok()) return
     end do
   end subroutine check_foreign
+
+  !> The resolved deck groups of the physics, all but &run, &time, &output
+  !> and &mesh (default: the shared ones, common_parameter_groups). The
+  !> driver drops what unused_inputs lists.
+  subroutine parameter_groups(self, groups)
+    class(simulation_t), intent(in) :: self
+    type(param_group_t), allocatable, intent(out) :: groups(:)
+    call common_parameter_groups(self, groups)
+  end subroutine parameter_groups
+
+  !> The groups read_common reads: every &material and &boundary, &solver,
+  !> &amg, &afsai and &block_fsai.
+  subroutine common_parameter_groups(sim, groups)
+    class(simulation_t), intent(in) :: sim
+    type(param_group_t), allocatable, intent(out) :: groups(:)
+    integer :: k, n
+    allocate(groups(size(sim%mats) + size(sim%bcs) + 4))
+    n = 0
+    do k = 1, size(sim%mats)
+      n = n + 1
+      call sim%mats(k)%describe(groups(n))
+    end do
+    do k = 1, size(sim%bcs)
+      n = n + 1
+      call sim%bcs(k)%describe(groups(n))
+    end do
+    call sim%solver%describe(groups(n + 1))
+    call describe_amg_config(sim%amg, groups(n + 2))
+    call sim%fsai%describe(groups(n + 3), groups(n + 4))
+  end subroutine common_parameter_groups
 end module simulation

@@ -23,7 +23,7 @@ if r=$($PY tests/driver/check_oedometer.py "$out/gmsh" gmsh_block 2>&1); then ok
 [ -f "$out/gmsh/gmsh_block_0000.h5" ] && [ -f "$out/gmsh/gmsh_block_mesh.h5" ] && ok "HDF5 mesh and step files" \
   || ko "HDF5 files missing"
 log="$out/gmsh/gmsh_block.log"
-if [ -f "$log" ] && grep -q "STRONG_THRESHOLD" "$log" && grep -q "YOUNG" "$log" && grep -q "^step 1/1" "$log" \
+if [ -f "$log" ] && grep -q "strong_threshold = 0.5 \[-\]" "$log" && grep -q "young *= .*\[Pa\]" "$log" && grep -q "^step 1/1" "$log" \
    && grep -q "timing summary" "$log"; then
   ok "log file has the deck echo, the progress line and the timing summary"
 else
