@@ -253,7 +253,7 @@ contains
   end subroutine load_state
 
   !> displacement [m] per node; pressure [Pa], Darcy velocity [m/s], total
-  !> stress [Pa] (Tensor6 xx xy xz yy yz zz, tension positive), region and
+  !> stress [Pa] (Tensor6 xx yy zz xy yz xz, tension positive), region and
   !> rank per cell.
   subroutine write_output(self, out, status)
     class(biot_simulation_t), intent(inout) :: self
@@ -276,8 +276,8 @@ contains
       pres = phys%x(p0:p1)
       call phys%mech%cell_stress(mesh, u_loc, stress)
       do c = 1, nc
-        ! total stress = effective - b p I (xx, yy, zz are components 1, 4, 6)
-        stress([1, 4, 6], c) = stress([1, 4, 6], c) - phys%biot(mesh%cell_region(c)) * pres(c)
+        ! total stress = effective - b p I (xx, yy, zz are components 1, 2, 3)
+        stress(1:3, c) = stress(1:3, c) - phys%biot(mesh%cell_region(c)) * pres(c)
       end do
       call phys%cell_velocity(mesh, q_loc, vel)
       call out%write_displacement(mesh, u_loc, status)

@@ -6,7 +6,7 @@
 !> step whose loop does not converge in max_newton iterations (max_cuts
 !> times, from &contact).
 module contact_simulation
-  use kinds, only: rp, ip, gp, name_len, msg_len
+  use kinds, only: rp, ip, gp, name_len, msg_len, path_len
   use parallel_comm, only: parallel_comm_t, wall_time
   use error_status, only: error_status_t
   use status_sync, only: agree
@@ -41,6 +41,7 @@ module contact_simulation
     type(contact_config_t) :: ccfg                  !< &contact
     type(contact_precon_t) :: cpc
     type(fracture_output_t) :: fout
+    character(len=path_len) :: fractures_xdmf = ''  !< the XDMF file of the fault fields, once open
     real(rp), allocatable :: dx(:)                  !< Newton update of the block vector
     real(rp), allocatable :: dsc(:)                 !< scaling of the block system
     real(rp) :: lf = 0.0_rp                         !< load factor of the step
@@ -129,12 +130,13 @@ contains
     allocate(self%dx(size(self%phys%x)), self%dsc(size(self%phys%x)))
   end subroutine setup
 
-  !> The 'fractures' grid beside the mesh. Collective.
+  !> The 'fractures' grid beside the mesh, in <prefix>_fractures.xdmf. Collective.
   subroutine open_output(self, out, status)
     class(contact_simulation_t), intent(inout) :: self
     type(field_output_t), intent(inout) :: out
     type(error_status_t), intent(inout) :: status
     call self%fout%init(out, self%mesh, status)
+    if (status%ok()) self%fractures_xdmf = out%writer%xdmf_path(self%fout%grid)
   end subroutine open_output
 
   !> Load factor t: the step's start is remembered (the slip increments and
@@ -253,7 +255,7 @@ contains
   end subroutine load_state
 
   !> displacement, stress, region, rank (mesh grid) and the fault fields
-  !> (fractures grid, fracture_output.f90).
+  !> (fractures grid, fracture_output.f90; status there 0 stick, 1 slip, 2 open).
   subroutine write_output(self, out, status)
     class(contact_simulation_t), intent(inout) :: self
     type(field_output_t), intent(inout) :: out
@@ -264,8 +266,9 @@ contains
     call out%write_displacement(self%mesh, self%phys%u, status)
     if (status%ok()) call out%writer%cell_field('stress', stress, status)
     call out%write_mesh_ids(self%mesh, status)
-    if (status%ok()) call self%fout%write_step(out, self%mesh, self%phys%trac, self%phys%jump, self%phys%state, &
-                                                self%phys%rot, status)
+    ! the output's status codes count from 0 (state_stick = 1, slip 2, open 3)
+    if (status%ok()) call self%fout%write_step(out, self%mesh, self%phys%trac, self%phys%jump, self%phys%state - 1, &
+                                                self%phys%rot, self%phys%fric, self%phys%coh, status)
   end subroutine write_output
 
   subroutine report_step(self, stats, line)
@@ -294,7 +297,8 @@ contains
   subroutine finish(self, log)
     class(contact_simulation_t), intent(inout) :: self
     type(logger_t), intent(inout) :: log
-    call log%info("the faults are the grid 'fractures' of the output")
+    if (len_trim(self%fractures_xdmf) > 0) &
+      call log%info('fault fields: '//trim(self%fractures_xdmf)//' (open it in ParaView)')
   end subroutine finish
 
   subroutine free(self)

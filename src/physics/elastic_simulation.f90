@@ -175,7 +175,7 @@ contains
     call self%mech%u%map%import(self%u_loc)
   end subroutine load_state
 
-  !> displacement [m] per node; stress [Pa] (Tensor6 xx xy xz yy yz zz,
+  !> displacement [m] per node; stress [Pa] (Tensor6 xx yy zz xy yz xz,
   !> tension positive), region and rank per cell.
   subroutine write_output(self, out, status)
     class(elastic_simulation_t), intent(inout) :: self
