@@ -24,9 +24,10 @@ program geoblock
   implicit none
 
   !> the deck groups (the repeatable ones may appear more than once)
-  character(len=16), parameter :: groups(14) = [character(len=16) :: 'run', 'mesh', 'material', 'boundary', &
-    'time', 'solver', 'amg', 'output', 'biot', 'source', 'afsai', 'block_fsai', 'fault', 'contact']
-  character(len=16), parameter :: repeatable(4) = [character(len=16) :: 'material', 'boundary', 'source', 'fault']
+  character(len=16), parameter :: groups(15) = [character(len=16) :: 'run', 'mesh', 'material', 'boundary', &
+    'time', 'solver', 'amg', 'output', 'biot', 'source', 'afsai', 'block_fsai', 'fault', 'contact', 'probe']
+  character(len=16), parameter :: repeatable(5) = [character(len=16) :: 'material', 'boundary', 'source', 'fault', &
+    'probe']
 
   type(parallel_comm_t) :: comm
   type(logger_t) :: log

@@ -21,8 +21,9 @@ module contact_simulation
   use fault_config, only: read_faults, load_fault_histories
   use dist_mesh, only: dist_mesh_t
   use field_output, only: field_output_t
+  use probe_fields, only: probe_fields_t
   use fracture_output, only: fracture_output_t
-  use contact, only: contact_t
+  use contact, only: contact_t, state_slip
   use contact_precon, only: contact_precon_t
   use simulation, only: simulation_t, foreign_len, step_stats_t
   implicit none
@@ -58,6 +59,8 @@ module contact_simulation
     procedure :: save_state
     procedure :: load_state
     procedure :: write_output
+    procedure :: probe_names
+    procedure :: sample
     procedure :: report_step
     procedure :: finish
     procedure :: free
@@ -270,6 +273,43 @@ contains
     if (status%ok()) call self%fout%write_step(out, self%mesh, self%phys%trac, self%phys%jump, self%phys%state - 1, &
                                                 self%phys%rot, self%phys%fric, self%phys%coh, status)
   end subroutine write_output
+
+  !> Displacement and stress for the probes.
+  subroutine probe_names(self, names)
+    class(contact_simulation_t), intent(in) :: self
+    character(len=8), allocatable, intent(out) :: names(:)
+    names = [character(len=8) :: 'ux', 'uy', 'uz', 'sxx', 'syy', 'szz', 'sxy', 'syz', 'sxz']
+  end subroutine probe_names
+
+  !> The probes' fields, and per fault (mesh order) its largest slip
+  !> (tangential jump) and slipping area (elements with status slip).
+  subroutine sample(self, pf, status)
+    class(contact_simulation_t), intent(inout) :: self
+    type(probe_fields_t), intent(inout) :: pf
+    type(error_status_t), intent(inout) :: status
+    real(rp), allocatable :: smax(:), area(:)
+    integer(ip) :: e
+    integer :: f, nf
+    pf%u = self%phys%u
+    allocate(pf%stress(6, self%mesh%cell_map%n_owned))
+    call self%phys%mech%cell_stress(self%mesh, self%phys%u, pf%stress)
+    nf = size(self%mesh%fault_names)
+    allocate(smax(nf), area(nf), pf%names(2 * nf), pf%values(2 * nf))
+    smax = 0.0_rp
+    area = 0.0_rp
+    do e = 1, self%mesh%iface_map%n_owned
+      f = self%mesh%iface_fault(e)
+      smax(f) = max(smax(f), norm2(self%phys%jump(2:3, e)))
+      if (self%phys%state(e) == state_slip) area(f) = area(f) + self%phys%area(e)
+    end do
+    call self%comm%sum_all(area)
+    do f = 1, nf
+      pf%names(2*f - 1) = trim(self%mesh%fault_names(f))//':max_slip [m]'
+      pf%names(2*f) = trim(self%mesh%fault_names(f))//':slip_area [m2]'
+      pf%values(2*f - 1) = self%comm%max(smax(f))
+      pf%values(2*f) = area(f)
+    end do
+  end subroutine sample
 
   subroutine report_step(self, stats, line)
     class(contact_simulation_t), intent(inout) :: self
