@@ -18,7 +18,7 @@ module probe_output
   use kinds, only: rp, ip, gp, path_len, name_len
   use error_status, only: error_status_t
   use strings, only: itoa, rtoa
-  use os_services, only: rename_path
+  use os_services, only: rename_path, make_directory
   use deck, only: deck_t
   use probe_config, only: probe_config_t, probe_quantities, probe_unit
   use dist_mesh, only: dist_mesh_t
@@ -300,6 +300,10 @@ contains
       end do
     end if
     tmp = trim(self%path)//'.tmp'
+    ! the output directory exists only when the run also writes fields
+    k = index(self%path, '/', back=.true.)
+    if (k > 1) call make_directory(self%path(1:k-1), status)
+    if (.not. status%ok()) return
     open(newunit=self%unit, file=trim(tmp), status='replace', action='write', iostat=ios)
     if (ios /= 0) then
       call status%set('cannot create '//trim(tmp))
