@@ -24,12 +24,20 @@
 !>       <Time Value=.../>; the entry is the grid itself for a one-grid writer
 !>       and a Spatial collection of the grids (a multiblock in ParaView) for a
 !>       writer with several. HDF5 files are referenced relative to the XDMF file.
+!>   <prefix>_<grid>.xdmf  the same for a grid added with own_file: that grid
+!>       is left out of <prefix>.xdmf and gets a Temporal collection of its
+!>       own (its data stay in the files above), so that readers that want
+!>       one mesh per file (meshio) open it.
+!> add_info attaches <Information Name=... Value=.../> elements (legends,
+!> units, sign conventions) to the Domain of the XDMF file showing a grid;
+!> readers skip them, ParaView shows them in the XML.
 !>
 !> Cell type from the first dimension of conn: 8 -> Hexahedron, 4 -> Quadrilateral;
 !> both in the Gmsh / VTK node order, which is also XDMF's.
 !> Attribute type from the number of components: 1 Scalar, 3 Vector, 6 Tensor6
-!> (symmetric tensor; the caller passes the components in XDMF order
-!> xx, xy, xz, yy, yz, zz, which is how ParaView expands Tensor6), 9 Tensor
+!> (symmetric tensor; the caller passes the components in the order ParaView
+!> labels them, XX YY ZZ XY YZ XZ: ParaView's XDMF reader hands the six values
+!> to VTK unchanged, and VTK names a 6-component symmetric tensor so), 9 Tensor
 !> (full, row by row: xx, xy, xz, yx, yy, yz, zx, zy, zz), any other Matrix.
 !>
 !> Every public procedure is collective and returns the same status on all
@@ -71,7 +79,15 @@ module xdmf_writer
     integer(gp) :: node_first = 1, cell_first = 1
     integer(ip) :: n_nodes = 0, n_cells = 0 !< owned on this rank
     integer :: first_step = 0               !< first step that shows this grid
+    logical :: own_file = .false.           !< in <prefix>_<name>.xdmf, not <prefix>.xdmf
   end type xdmf_grid_t
+
+  !> One Information element of the XDMF file of a grid.
+  type :: xdmf_info_t
+    integer :: grid = 1
+    character(len=name_len) :: name = ''
+    character(len=:), allocatable :: value
+  end type xdmf_info_t
 
   !> What the XDMF needs to know of one field written in one step.
   type :: xdmf_field_t
@@ -96,9 +112,11 @@ module xdmf_writer
     logical :: in_step = .false.
     integer(hid_t) :: step_file = -1
     integer :: step_field_first = 1             !< first record of the open step
+    type(xdmf_info_t), allocatable :: infos(:)  !< Information elements, in the order added
   contains
     procedure :: init
     procedure :: add_grid
+    procedure :: add_info
     procedure :: begin_step
     procedure, private :: node_field_r2, node_field_r1
     generic :: node_field => node_field_r2, node_field_r1
@@ -200,9 +218,10 @@ contains
   !> Add a further grid (e.g. the fracture surface, conn(4, :)) to the series:
   !> written to the mesh file under /<name>, shown from the next step on. Same
   !> arguments as init; grid_id is what the field routines take as grid=.
-  !> Collective; not allowed between begin_step and end_step.
+  !> own_file: the grid is described in <prefix>_<name>.xdmf instead of
+  !> <prefix>.xdmf. Collective; not allowed between begin_step and end_step.
   subroutine add_grid(self, name, n_nodes_global, node_first, coords, n_cells_global, &
-                      cell_first, conn, status, grid_id)
+                      cell_first, conn, status, grid_id, own_file)
     class(xdmf_writer_t), intent(inout) :: self
     character(len=*), intent(in) :: name
     integer(gp), intent(in) :: n_nodes_global, node_first, n_cells_global, cell_first
@@ -210,6 +229,7 @@ contains
     integer(gp), intent(in), contiguous :: conn(:,:)
     type(error_status_t), intent(out) :: status
     integer, intent(out) :: grid_id
+    logical, intent(in), optional :: own_file
     type(xdmf_grid_t) :: g
     type(xdmf_grid_t), allocatable :: tmp(:)
     integer(gp), allocatable, target :: conn0(:,:)
@@ -230,6 +250,7 @@ contains
     ! The first grid lives at the root of the files, the others in their group.
     if (self%n_grids > 0) g%group = name
     g%first_step = self%n_steps
+    if (present(own_file)) g%own_file = own_file .and. self%n_grids > 0
     call check_grid(self, g, coords, conn, status)
     call self%agree(status, 'checking grid "'//trim(name)//'"')
     if (.not. status%ok()) return
@@ -277,6 +298,36 @@ contains
     self%grids(self%n_grids) = g
     grid_id = self%n_grids
   end subroutine add_grid
+
+  !> An Information element (name, value: plain text without quotes, < or &)
+  !> in the XDMF file that shows grid (default: the first). The same call on
+  !> every rank; no communication (rank 0 writes the XDMF files).
+  subroutine add_info(self, name, value, status, grid)
+    class(xdmf_writer_t), intent(inout) :: self
+    character(len=*), intent(in) :: name, value
+    type(error_status_t), intent(inout) :: status
+    integer, intent(in), optional :: grid
+    type(xdmf_info_t), allocatable :: tmp(:)
+    integer :: g, n
+    g = 1
+    if (present(grid)) g = grid
+    if (.not. self%ready .or. g < 1 .or. g > self%n_grids) then
+      call status%set('xdmf_writer: information "'//trim(name)//'" for no grid')
+      return
+    end if
+    if (scan(name//value, '"<>&') > 0 .or. .not. valid_name(name)) then
+      call status%set('xdmf_writer: information "'//trim(name)//'" has characters XML does not take')
+      return
+    end if
+    if (.not. allocated(self%infos)) allocate(self%infos(0))
+    n = size(self%infos)
+    allocate(tmp(n + 1))
+    tmp(1:n) = self%infos
+    tmp(n + 1)%grid = g
+    tmp(n + 1)%name = name
+    tmp(n + 1)%value = value
+    call move_alloc(tmp, self%infos)
+  end subroutine add_info
 
   !> Open the file of a new output step at time (s), collectively; the fields
   !> follow, then end_step.
@@ -409,11 +460,19 @@ contains
     call root_verdict(self, status)
   end subroutine end_step
 
-  !> Path of the XDMF file of the series (to open in ParaView).
-  function xdmf_path(self) result(path)
+  !> Path of the XDMF file of the series (to open in ParaView); with grid,
+  !> the file that shows that grid.
+  function xdmf_path(self, grid) result(path)
     class(xdmf_writer_t), intent(in) :: self
+    integer, intent(in), optional :: grid
     character(len=:), allocatable :: path
     path = trim(self%dir)//'/'//trim(self%prefix)//'.xdmf'
+    if (present(grid)) then
+      if (grid >= 1 .and. grid <= self%n_grids) then
+        if (self%grids(grid)%own_file) path = trim(self%dir)//'/'//trim(self%prefix)//'_'// &
+                                              trim(self%grids(grid)%name)//'.xdmf'
+      end if
+    end if
   end function xdmf_path
 
   !> Number of output steps written (the next step file's number).
@@ -557,6 +616,7 @@ contains
     if (allocated(self%grids)) deallocate(self%grids)
     if (allocated(self%times)) deallocate(self%times)
     if (allocated(self%fields)) deallocate(self%fields)
+    if (allocated(self%infos)) deallocate(self%infos)
   end subroutine free
 
   ! ---- private ---------------------------------------------------------------
@@ -697,16 +757,38 @@ contains
     end if
   end subroutine open_h5
 
-  !> Rank 0: write the XDMF description of all steps so far, atomically.
+  !> Rank 0: write the XDMF files of all steps so far (the series' file and
+  !> one per grid with a file of its own), each atomically.
   subroutine write_xdmf(self, status)
     class(xdmf_writer_t), intent(in) :: self
     type(error_status_t), intent(inout) :: status
+    integer :: g
+    call write_xdmf_file(self, 0, status)
+    do g = 2, self%n_grids
+      if (status%ok() .and. self%grids(g)%own_file) call write_xdmf_file(self, g, status)
+    end do
+  end subroutine write_xdmf
+
+  !> Rank 0: one XDMF file, atomically: only = 0 the series' file (the grids
+  !> without a file of their own), else the file of grid only.
+  subroutine write_xdmf_file(self, only, status)
+    type(xdmf_writer_t), intent(in) :: self
+    integer, intent(in) :: only
+    type(error_status_t), intent(inout) :: status
     character(len=path_len) :: path, tmp
     character(len=msg_len) :: iom
-    integer :: u, ios, s, g, f0, f1
+    logical :: shown(self%n_grids)
+    integer :: u, ios, s, g, f0, f1, k
     logical :: multi
 
-    path = self%xdmf_path()
+    if (only == 0) then
+      path = self%xdmf_path()
+      shown = .not. self%grids(1:self%n_grids)%own_file
+    else
+      path = self%xdmf_path(only)
+      shown = .false.
+      shown(only) = .true.
+    end if
     tmp = trim(path)//'.tmp'
     open(newunit=u, file=trim(tmp), status='replace', action='write', form='formatted', &
          iostat=ios, iomsg=iom)
@@ -714,10 +796,16 @@ contains
       call status%set('xdmf_writer: cannot write '//trim(tmp)//': '//trim(iom))
       return
     end if
-    multi = self%n_grids > 1
+    multi = count(shown) > 1
     call put(u, ios, '<?xml version="1.0" ?>')
     call put(u, ios, '<Xdmf Version="3.0">')
     call put(u, ios, ' <Domain>')
+    if (allocated(self%infos)) then
+      do k = 1, size(self%infos)
+        if (shown(self%infos(k)%grid)) call put(u, ios, '  <Information Name="'//trim(self%infos(k)%name)// &
+                                                   '" Value="'//self%infos(k)%value//'"/>')
+      end do
+    end if
     call put(u, ios, '  <Grid Name="'//trim(self%prefix)// &
                      '" GridType="Collection" CollectionType="Temporal">')
     f0 = 1
@@ -734,7 +822,7 @@ contains
         call put(u, ios, '    <Time Value="'//real_str(self%times(s + 1))//'"/>')
       end if
       do g = 1, self%n_grids
-        if (self%grids(g)%first_step > s) cycle
+        if (self%grids(g)%first_step > s .or. .not. shown(g)) cycle
         if (multi) then
           call write_xdmf_grid(self, u, ios, s, g, f0, f1, .false., ' ')
         else
@@ -759,7 +847,7 @@ contains
     end if
     call rename_path(tmp, path, status)
     if (.not. status%ok()) status%msg = 'xdmf_writer: '//trim(status%msg)
-  end subroutine write_xdmf
+  end subroutine write_xdmf_file
 
   !> One Uniform grid of step s with the fields f0..f1 that belong to it.
   subroutine write_xdmf_grid(self, u, ios, s, g, f0, f1, with_time, pad)

@@ -36,8 +36,8 @@ module param_group
     integer :: n = 0
   contains
     procedure :: init
-    procedure, private :: add_real, add_reals, add_int, add_ints, add_logical, add_string
-    generic :: add => add_real, add_reals, add_int, add_ints, add_logical, add_string
+    procedure, private :: add_real, add_reals, add_int, add_ints, add_logical, add_string, add_strings
+    generic :: add => add_real, add_reals, add_int, add_ints, add_logical, add_string, add_strings
     procedure :: add_unset
     procedure :: drop
     procedure :: echo
@@ -129,6 +129,21 @@ contains
     character(len=*), intent(in) :: s
     call self%push(name, quoted(s), unit, meaning, .true.)
   end subroutine add_string
+
+  !> A list of character values, each quoted.
+  subroutine add_strings(self, name, s, unit, meaning)
+    class(param_group_t), intent(inout) :: self
+    character(len=*), intent(in) :: name, unit, meaning
+    character(len=*), intent(in) :: s(:)
+    character(len=:), allocatable :: v
+    integer :: k
+    v = ''
+    do k = 1, size(s)
+      if (k > 1) v = v//', '
+      v = v//quoted(s(k))
+    end do
+    call self%push(name, v, unit, meaning, .true.)
+  end subroutine add_strings
 
   !> A variable the run leaves unset; shown says what that means, e.g.
   !> '(none)' or '(not set: no limit)'.

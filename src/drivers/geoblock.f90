@@ -20,14 +20,16 @@ program geoblock
   use simulation, only: simulation_t
   use simulation_factory, only: make_simulation, physics_names
   use time_loop, only: run_simulation, read_physics_groups
+  use probe_config, only: probe_config_t
   use run_parameters, only: show_parameters
   use build_info, only: geoblock_version, git_commit, built_against
   implicit none
 
   !> the deck groups (the repeatable ones may appear more than once)
-  character(len=16), parameter :: groups(14) = [character(len=16) :: 'run', 'mesh', 'material', 'boundary', &
-    'time', 'solver', 'amg', 'output', 'biot', 'source', 'afsai', 'block_fsai', 'fault', 'contact']
-  character(len=16), parameter :: repeatable(4) = [character(len=16) :: 'material', 'boundary', 'source', 'fault']
+  character(len=16), parameter :: groups(15) = [character(len=16) :: 'run', 'mesh', 'material', 'boundary', &
+    'time', 'solver', 'amg', 'output', 'biot', 'source', 'afsai', 'block_fsai', 'fault', 'contact', 'probe']
+  character(len=16), parameter :: repeatable(5) = [character(len=16) :: 'material', 'boundary', 'source', 'fault', &
+    'probe']
 
   type(parallel_comm_t) :: comm
   type(logger_t) :: log
@@ -140,10 +142,11 @@ contains
   !> deck) and stop.
   subroutine check_deck()
     type(mesh_config_t) :: mcfg
-    call read_physics_groups(comm, log, d, run, sim, mcfg, status)
+    type(probe_config_t), allocatable :: probes(:)
+    call read_physics_groups(comm, log, d, run, sim, mcfg, status, probes)
     call agree(comm, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
-    call show_parameters(comm, d%path, run, mcfg, sim)
+    call show_parameters(comm, d%path, run, mcfg, sim, probes)
     ! a comment line, so that the output is itself a deck
     call say_and_end("! deck '"//trim(path)//"' is valid (physics "//trim(run%physics)//'); nothing was run')
   end subroutine check_deck

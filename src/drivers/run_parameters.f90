@@ -12,6 +12,7 @@ module run_parameters
   use mesh_config, only: mesh_config_t
   use param_group, only: param_group_t
   use simulation, only: simulation_t, foreign_len
+  use probe_config, only: probe_config_t, describe_probe
   use parameters_file, only: write_parameters, print_parameters
   implicit none
   private
@@ -30,20 +31,25 @@ contains
   !> Every group the run uses, resolved, in deck order: &run, &time,
   !> &output, &mesh, then the physics' groups; unused groups and variables
   !> left out.
-  subroutine resolved_groups(run, mcfg, sim, groups)
+  subroutine resolved_groups(run, mcfg, sim, probes, groups)
     type(run_config_t), intent(in) :: run
     type(mesh_config_t), intent(in) :: mcfg
     class(simulation_t), intent(in) :: sim
+    type(probe_config_t), intent(in) :: probes(:)
     type(param_group_t), allocatable, intent(out) :: groups(:)
     type(param_group_t) :: head(4)
-    type(param_group_t), allocatable :: own(:), all(:)
+    type(param_group_t), allocatable :: own(:), all(:), probe_groups(:)
     character(len=foreign_len), allocatable :: unused(:)
     logical, allocatable :: keep(:)
     integer :: g, j, p
     call run%describe(head(1:3))
     call mcfg%describe(head(4))
     call sim%parameter_groups(own)
-    all = [head, own]
+    allocate(probe_groups(size(probes)))
+    do g = 1, size(probes)
+      call describe_probe(probes(g), probe_groups(g))
+    end do
+    all = [head, own, probe_groups]
     call sim%unused_inputs(unused)
     allocate(keep(size(all)))
     keep = .true.
@@ -73,28 +79,30 @@ contains
 
   !> Echo the resolved deck to the log and write <out_dir>/<prefix>_parameters.nml
   !> (rank 0). Collective; status is the same on every rank.
-  subroutine record_parameters(comm, log, deck_path, run, mcfg, sim, status)
+  subroutine record_parameters(comm, log, deck_path, run, mcfg, sim, probes, status)
     type(parallel_comm_t), intent(in) :: comm
     type(logger_t), intent(inout) :: log
     character(len=*), intent(in) :: deck_path
     type(run_config_t), intent(in) :: run
     type(mesh_config_t), intent(in) :: mcfg
     class(simulation_t), intent(in) :: sim
+    type(probe_config_t), intent(in) :: probes(:)
     type(error_status_t), intent(inout) :: status
     type(param_group_t), allocatable :: groups(:)
-    call resolved_groups(run, mcfg, sim, groups)
+    call resolved_groups(run, mcfg, sim, probes, groups)
     call write_parameters(comm, log, parameters_path(run), groups, header_lines(run, deck_path), status)
   end subroutine record_parameters
 
   !> Print the resolved deck on standard output (geoblock --check).
-  subroutine show_parameters(comm, deck_path, run, mcfg, sim)
+  subroutine show_parameters(comm, deck_path, run, mcfg, sim, probes)
     type(parallel_comm_t), intent(in) :: comm
     character(len=*), intent(in) :: deck_path
     type(run_config_t), intent(in) :: run
     type(mesh_config_t), intent(in) :: mcfg
     class(simulation_t), intent(in) :: sim
+    type(probe_config_t), intent(in) :: probes(:)
     type(param_group_t), allocatable :: groups(:)
-    call resolved_groups(run, mcfg, sim, groups)
+    call resolved_groups(run, mcfg, sim, probes, groups)
     call print_parameters(comm, groups, header_lines(run, deck_path))
   end subroutine show_parameters
 end module run_parameters

@@ -26,6 +26,9 @@ module time_loop
   use mesh_builder, only: build_mesh
   use dist_mesh, only: dist_mesh_t
   use field_output, only: field_output_t
+  use probe_config, only: probe_config_t, read_probes
+  use probe_fields, only: probe_fields_t
+  use probe_output, only: probe_output_t
   use simulation, only: simulation_t, step_stats_t
   use step_schedule, only: step_schedule_t
   use newton_loop, only: newton_loop_t
@@ -41,6 +44,7 @@ module time_loop
     type(step_schedule_t) :: schedule
     type(newton_loop_t) :: newton
     type(field_output_t) :: out
+    type(probe_output_t) :: probes       !< <prefix>_probes.csv
     type(timer_set_t) :: timers
     type(state_record_t) :: saved        !< the last accepted state (restored by a cut)
     real(rp) :: t = 0.0_rp               !< time (load factor) of the last accepted state
@@ -73,6 +77,7 @@ contains
       call advance(comm, log, sim, rs, stats)
       call sim%report_step(stats, line)
       call log%info(line)
+      call record_probes(comm, log, sim, rs, step)
       if (run%fields .and. (mod(step, run%every) == 0 .or. step <= 1 .or. rs%schedule%is_last(step, rs%t))) &
         call write_step(comm, log, sim, rs)
       ! a stop signal on any rank ends the run here, unless it is over anyway
@@ -94,6 +99,7 @@ contains
     call rs%timers%stop('total')
     call rs%timers%report(comm, log)
     call rs%newton%free()
+    call rs%probes%free()
     call rs%out%free()
     call sim%free()
     call mesh%free()
@@ -109,11 +115,13 @@ contains
     type(dist_mesh_t), intent(inout), target :: mesh
     type(run_state_t), intent(inout) :: rs
     type(mesh_config_t) :: mcfg
+    type(probe_config_t), allocatable :: pcfg(:)
+    character(len=8), allocatable :: avail(:)
     type(error_status_t) :: status
     character(len=path_len) :: base
-    call read_physics_groups(comm, log, d, run, sim, mcfg, status)
+    call read_physics_groups(comm, log, d, run, sim, mcfg, status, pcfg)
     ! the resolved deck, before anything can fail (a failed run leaves it too)
-    if (status%ok()) call record_parameters(comm, log, d%path, run, mcfg, sim, status)
+    if (status%ok()) call record_parameters(comm, log, d%path, run, mcfg, sim, pcfg, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
     call rs%schedule%init(run, sim%transient)
 
@@ -136,10 +144,15 @@ contains
       if (.not. status%ok()) call log%fatal(comm, status%msg)
     end if
     base = trim(run%out_dir)//'/'//trim(run%prefix)
+    call sim%probe_names(avail)
     if (len_trim(run%restart) > 0) then
       ! the matrix export belongs to the first step of the whole run
       call rs%newton%init(comm, sim, trim(base)//'_residuals.csv', '', status, keep_through=rs%first - 1)
+      if (status%ok()) call rs%probes%init(d, pcfg, mesh, avail, sim%name(), trim(base)//'_probes.csv', &
+                                           sim%transient, status, keep_through=rs%first - 1)
     else
+      call rs%probes%init(d, pcfg, mesh, avail, sim%name(), trim(base)//'_probes.csv', sim%transient, status)
+      if (.not. status%ok()) call log%fatal(comm, status%msg)
       call rs%newton%init(comm, sim, trim(base)//'_residuals.csv', trim(merge(base, repeat(' ', path_len), &
                           run%export_matrix)), status)
     end if
@@ -149,7 +162,7 @@ contains
   !> The deck groups of the mesh and of the physics (and, for a physics that
   !> steps in time, the time-step variables), read and checked; the values
   !> are echoed to the log by record_parameters. Collective.
-  subroutine read_physics_groups(comm, log, d, run, sim, mcfg, status)
+  subroutine read_physics_groups(comm, log, d, run, sim, mcfg, status, probes)
     type(parallel_comm_t), intent(inout) :: comm
     type(logger_t), intent(inout) :: log
     type(deck_t), intent(in) :: d
@@ -157,11 +170,15 @@ contains
     class(simulation_t), intent(inout) :: sim
     type(mesh_config_t), intent(inout) :: mcfg
     type(error_status_t), intent(inout) :: status
+    type(probe_config_t), allocatable, intent(out), optional :: probes(:)   !< &probe groups
+    type(probe_config_t), allocatable :: pcfg(:)
     call mcfg%read(d, log, status)
     sim%comm = comm
     if (status%ok()) call sim%read_deck(d, mcfg, log, status)
     if (status%ok()) call sim%check_foreign(d, status)
     if (status%ok() .and. sim%transient) call run%check_transient(d, sim%name(), status)
+    if (status%ok()) call read_probes(d, log, pcfg, status)
+    if (status%ok() .and. present(probes)) call move_alloc(pcfg, probes)
   end subroutine read_physics_groups
 
   !> Write the checkpoint of the accepted step `step` (last sub-step dt).
@@ -241,6 +258,21 @@ contains
       itoa(stats%cuts)//' step cuts: '//trim(why)//' (raise max_newton or max_cuts in &'//trim(sim%name())// &
       ', or use more steps in &time)')
   end subroutine fail_step
+
+  !> The probe row of the accepted step `step` (every step). Collective.
+  subroutine record_probes(comm, log, sim, rs, step)
+    type(parallel_comm_t), intent(inout) :: comm
+    type(logger_t), intent(inout) :: log
+    class(simulation_t), intent(inout) :: sim
+    type(run_state_t), intent(inout) :: rs
+    integer, intent(in) :: step
+    type(probe_fields_t) :: pf
+    type(error_status_t) :: status
+    call sim%sample(pf, status)
+    if (status%ok()) call rs%probes%record(sim%mesh, step, rs%t, pf, status)
+    call agree(comm, status)
+    if (.not. status%ok()) call log%fatal(comm, 'step '//itoa(step)//': '//trim(status%msg))
+  end subroutine record_probes
 
   !> The fields of the accepted step at time rs%t. Collective.
   subroutine write_step(comm, log, sim, rs)

@@ -47,6 +47,8 @@ contains
     call self%writer%init(mesh%comm, dir, prefix, mesh%n_nodes_global, mesh%node_map%first, &
                           mesh%coords(:, 1:mesh%node_map%n_owned), mesh%n_cells_global, &
                           mesh%cell_map%first, conn, status)
+    if (status%ok()) call self%writer%add_info('stress', 'cell field, Pa, tension positive, components '// &
+                                               'XX YY ZZ XY YZ XZ (ParaView order of a Tensor6)', status)
     self%active = status%ok()
   end subroutine init
 

@@ -25,6 +25,7 @@ module biot_simulation
   use dist_mesh, only: dist_mesh_t
   use mesh_pieces, only: mesh_pieces_t
   use field_output, only: field_output_t
+  use probe_fields, only: probe_fields_t
   use poromechanics, only: poromechanics_t, iu, iq, ipr
   use biot_precon, only: biot_precon_t
   use param_group, only: param_group_t
@@ -60,6 +61,8 @@ module biot_simulation
     procedure :: save_state
     procedure :: load_state
     procedure :: write_output
+    procedure :: probe_names
+    procedure :: sample
     procedure :: report_step
     procedure :: free
     procedure, private :: setup_precon
@@ -261,32 +264,22 @@ contains
   end subroutine load_state
 
   !> displacement [m] per node; pressure [Pa], Darcy velocity [m/s], total
-  !> stress [Pa] (Tensor6 xx xy xz yy yz zz, tension positive), region and
+  !> stress [Pa] (Tensor6 xx yy zz xy yz xz, tension positive), region and
   !> rank per cell.
   subroutine write_output(self, out, status)
     class(biot_simulation_t), intent(inout) :: self
     type(field_output_t), intent(inout) :: out
     type(error_status_t), intent(inout) :: status
     real(rp), allocatable :: u_loc(:), q_loc(:), stress(:,:), vel(:,:), pres(:)
-    integer(ip) :: u0, u1, q0, q1, p0, p1, c, nc
+    integer(ip) :: q0, q1, nc
     associate (phys => self%phys, mesh => self%mesh)
-      call phys%sys%block_range(iu, u0, u1)
+      call solid_fields(self, u_loc, pres, stress)
       call phys%sys%block_range(iq, q0, q1)
-      call phys%sys%block_range(ipr, p0, p1)
       nc = mesh%cell_map%n_owned
-      allocate(u_loc(phys%mech%u%n_local()), q_loc(phys%qd%n_local()), stress(6, nc), vel(3, nc))
-      u_loc = 0.0_rp
-      u_loc(1:u1 - u0 + 1) = phys%x(u0:u1)
-      call phys%mech%u%map%import(u_loc)
+      allocate(q_loc(phys%qd%n_local()), vel(3, nc))
       q_loc = 0.0_rp
       q_loc(1:q1 - q0 + 1) = phys%x(q0:q1)
       call phys%qd%map%import(q_loc)
-      pres = phys%x(p0:p1)
-      call phys%mech%cell_stress(mesh, u_loc, stress)
-      do c = 1, nc
-        ! total stress = effective - b p I (xx, yy, zz are components 1, 4, 6)
-        stress([1, 4, 6], c) = stress([1, 4, 6], c) - phys%biot(mesh%cell_region(c)) * pres(c)
-      end do
       call phys%cell_velocity(mesh, q_loc, vel)
       call out%write_displacement(mesh, u_loc, status)
       if (status%ok()) call out%writer%cell_field('pressure', pres, status)
@@ -295,6 +288,43 @@ contains
       call out%write_mesh_ids(mesh, status)
     end associate
   end subroutine write_output
+
+  !> The displacement (local, ghosts imported), the pressure and the total
+  !> stress (xx yy zz xy yz xz, tension positive) of the current state.
+  subroutine solid_fields(self, u_loc, pres, stress)
+    type(biot_simulation_t), intent(inout) :: self
+    real(rp), allocatable, intent(out) :: u_loc(:), pres(:), stress(:,:)
+    integer(ip) :: u0, u1, p0, p1, c, nc
+    associate (phys => self%phys, mesh => self%mesh)
+      call phys%sys%block_range(iu, u0, u1)
+      call phys%sys%block_range(ipr, p0, p1)
+      nc = mesh%cell_map%n_owned
+      allocate(u_loc(phys%mech%u%n_local()), stress(6, nc))
+      u_loc = 0.0_rp
+      u_loc(1:u1 - u0 + 1) = phys%x(u0:u1)
+      call phys%mech%u%map%import(u_loc)
+      pres = phys%x(p0:p1)
+      call phys%mech%cell_stress(mesh, u_loc, stress)
+      do c = 1, nc
+        ! total stress = effective - b p I (xx, yy, zz are components 1, 2, 3)
+        stress(1:3, c) = stress(1:3, c) - phys%biot(mesh%cell_region(c)) * pres(c)
+      end do
+    end associate
+  end subroutine solid_fields
+
+  !> Displacement, pressure and total stress for the probes.
+  subroutine probe_names(self, names)
+    class(biot_simulation_t), intent(in) :: self
+    character(len=8), allocatable, intent(out) :: names(:)
+    names = [character(len=8) :: 'ux', 'uy', 'uz', 'p', 'sxx', 'syy', 'szz', 'sxy', 'syz', 'sxz']
+  end subroutine probe_names
+
+  subroutine sample(self, pf, status)
+    class(biot_simulation_t), intent(inout) :: self
+    type(probe_fields_t), intent(inout) :: pf
+    type(error_status_t), intent(inout) :: status
+    call solid_fields(self, pf%u, pf%p, pf%stress)
+  end subroutine sample
 
   !> The step line: iterations, residual, local mass balance, the two set-up
   !> parts (MUMPS: analysis + factorization as the first) and the solve.

@@ -6,7 +6,7 @@
 !> step whose loop does not converge in max_newton iterations (max_cuts
 !> times, from &contact).
 module contact_simulation
-  use kinds, only: rp, ip, gp, name_len, msg_len
+  use kinds, only: rp, ip, gp, name_len, msg_len, path_len
   use parallel_comm, only: parallel_comm_t, wall_time
   use error_status, only: error_status_t
   use status_sync, only: agree
@@ -21,8 +21,9 @@ module contact_simulation
   use fault_config, only: read_faults, load_fault_histories
   use dist_mesh, only: dist_mesh_t
   use field_output, only: field_output_t
+  use probe_fields, only: probe_fields_t
   use fracture_output, only: fracture_output_t
-  use contact, only: contact_t, state_open
+  use contact, only: contact_t, state_open, state_slip
   use mesh_pieces, only: mesh_pieces_t
   use contact_precon, only: contact_precon_t
   use param_group, only: param_group_t
@@ -43,6 +44,7 @@ module contact_simulation
     type(contact_config_t) :: ccfg                  !< &contact
     type(contact_precon_t) :: cpc
     type(fracture_output_t) :: fout
+    character(len=path_len) :: fractures_xdmf = ''  !< the XDMF file of the fault fields, once open
     real(rp), allocatable :: dx(:)                  !< Newton update of the block vector
     real(rp), allocatable :: dsc(:)                 !< scaling of the block system
     real(rp) :: lf = 0.0_rp                         !< load factor of the step
@@ -62,6 +64,8 @@ module contact_simulation
     procedure :: save_state
     procedure :: load_state
     procedure :: write_output
+    procedure :: probe_names
+    procedure :: sample
     procedure :: report_step
     procedure :: finish
     procedure :: free
@@ -135,12 +139,13 @@ contains
     allocate(self%dx(size(self%phys%x)), self%dsc(size(self%phys%x)))
   end subroutine setup
 
-  !> The 'fractures' grid beside the mesh. Collective.
+  !> The 'fractures' grid beside the mesh, in <prefix>_fractures.xdmf. Collective.
   subroutine open_output(self, out, status)
     class(contact_simulation_t), intent(inout) :: self
     type(field_output_t), intent(inout) :: out
     type(error_status_t), intent(inout) :: status
     call self%fout%init(out, self%mesh, status)
+    if (status%ok()) self%fractures_xdmf = out%writer%xdmf_path(self%fout%grid)
   end subroutine open_output
 
   !> Load factor t: the step's start is remembered (the slip increments and
@@ -290,7 +295,7 @@ contains
   end subroutine load_state
 
   !> displacement, stress, region, rank (mesh grid) and the fault fields
-  !> (fractures grid, fracture_output.f90).
+  !> (fractures grid, fracture_output.f90; status there 0 stick, 1 slip, 2 open).
   subroutine write_output(self, out, status)
     class(contact_simulation_t), intent(inout) :: self
     type(field_output_t), intent(inout) :: out
@@ -301,9 +306,47 @@ contains
     call out%write_displacement(self%mesh, self%phys%u, status)
     if (status%ok()) call out%writer%cell_field('stress', stress, status)
     call out%write_mesh_ids(self%mesh, status)
-    if (status%ok()) call self%fout%write_step(out, self%mesh, self%phys%trac, self%phys%jump, self%phys%state, &
-                                                self%phys%rot, status)
+    ! the output's status codes count from 0 (state_stick = 1, slip 2, open 3)
+    if (status%ok()) call self%fout%write_step(out, self%mesh, self%phys%trac, self%phys%jump, self%phys%state - 1, &
+                                                self%phys%rot, self%phys%fric, self%phys%coh, status)
   end subroutine write_output
+
+  !> Displacement and stress for the probes.
+  subroutine probe_names(self, names)
+    class(contact_simulation_t), intent(in) :: self
+    character(len=8), allocatable, intent(out) :: names(:)
+    names = [character(len=8) :: 'ux', 'uy', 'uz', 'sxx', 'syy', 'szz', 'sxy', 'syz', 'sxz']
+  end subroutine probe_names
+
+  !> The probes' fields, and per fault (mesh order) its largest slip
+  !> (tangential jump) and slipping area (elements with status slip).
+  subroutine sample(self, pf, status)
+    class(contact_simulation_t), intent(inout) :: self
+    type(probe_fields_t), intent(inout) :: pf
+    type(error_status_t), intent(inout) :: status
+    real(rp), allocatable :: smax(:), area(:)
+    integer(ip) :: e
+    integer :: f, nf
+    pf%u = self%phys%u
+    allocate(pf%stress(6, self%mesh%cell_map%n_owned))
+    call self%phys%mech%cell_stress(self%mesh, self%phys%u, pf%stress)
+    nf = size(self%mesh%fault_names)
+    allocate(smax(nf), area(nf), pf%names(2 * nf), pf%values(2 * nf))
+    smax = 0.0_rp
+    area = 0.0_rp
+    do e = 1, self%mesh%iface_map%n_owned
+      f = self%mesh%iface_fault(e)
+      smax(f) = max(smax(f), norm2(self%phys%jump(2:3, e)))
+      if (self%phys%state(e) == state_slip) area(f) = area(f) + self%phys%area(e)
+    end do
+    call self%comm%sum_all(area)
+    do f = 1, nf
+      pf%names(2*f - 1) = trim(self%mesh%fault_names(f))//':max_slip [m]'
+      pf%names(2*f) = trim(self%mesh%fault_names(f))//':slip_area [m2]'
+      pf%values(2*f - 1) = self%comm%max(smax(f))
+      pf%values(2*f) = area(f)
+    end do
+  end subroutine sample
 
   subroutine report_step(self, stats, line)
     class(contact_simulation_t), intent(inout) :: self
@@ -331,7 +374,8 @@ contains
   subroutine finish(self, log)
     class(contact_simulation_t), intent(inout) :: self
     type(logger_t), intent(inout) :: log
-    call log%info("the faults are the grid 'fractures' of the output")
+    if (len_trim(self%fractures_xdmf) > 0) &
+      call log%info('fault fields: '//trim(self%fractures_xdmf)//' (open it in ParaView)')
   end subroutine finish
 
   subroutine free(self)

@@ -21,6 +21,7 @@ module elastic_simulation
   use dist_mesh, only: dist_mesh_t
   use mesh_pieces, only: mesh_pieces_t
   use field_output, only: field_output_t
+  use probe_fields, only: probe_fields_t
   use elasticity, only: elasticity_t
   use simulation, only: simulation_t, foreign_len, step_stats_t
   implicit none
@@ -48,6 +49,8 @@ module elastic_simulation
     procedure :: save_state
     procedure :: load_state
     procedure :: write_output
+    procedure :: probe_names
+    procedure :: sample
     procedure :: report_step
     procedure :: finish
     procedure :: free
@@ -179,7 +182,7 @@ contains
     call self%mech%u%map%import(self%u_loc)
   end subroutine load_state
 
-  !> displacement [m] per node; stress [Pa] (Tensor6 xx xy xz yy yz zz,
+  !> displacement [m] per node; stress [Pa] (Tensor6 xx yy zz xy yz xz,
   !> tension positive), region and rank per cell.
   subroutine write_output(self, out, status)
     class(elastic_simulation_t), intent(inout) :: self
@@ -192,6 +195,22 @@ contains
     if (status%ok()) call out%writer%cell_field('stress', stress, status)
     call out%write_mesh_ids(self%mesh, status)
   end subroutine write_output
+
+  !> Displacement and stress for the probes.
+  subroutine probe_names(self, names)
+    class(elastic_simulation_t), intent(in) :: self
+    character(len=8), allocatable, intent(out) :: names(:)
+    names = [character(len=8) :: 'ux', 'uy', 'uz', 'sxx', 'syy', 'szz', 'sxy', 'syz', 'sxz']
+  end subroutine probe_names
+
+  subroutine sample(self, pf, status)
+    class(elastic_simulation_t), intent(inout) :: self
+    type(probe_fields_t), intent(inout) :: pf
+    type(error_status_t), intent(inout) :: status
+    pf%u = self%u_loc
+    allocate(pf%stress(6, self%mesh%cell_map%n_owned))
+    call self%mech%cell_stress(self%mesh, self%u_loc, pf%stress)
+  end subroutine sample
 
   subroutine report_step(self, stats, line)
     class(elastic_simulation_t), intent(inout) :: self

@@ -333,8 +333,8 @@ contains
   end subroutine assemble_into
 
   !> Cauchy stress at the centre of each owned cell, from the displacement
-  !> u_loc (all local dofs, ghosts up to date). Components in the XDMF Tensor6
-  !> order xx, xy, xz, yy, yz, zz [Pa].
+  !> u_loc (all local dofs, ghosts up to date). Components in the order
+  !> ParaView labels a 6-component symmetric tensor: xx, yy, zz, xy, yz, xz [Pa].
   subroutine cell_stress(self, mesh, u_loc, stress)
     class(elasticity_t), intent(in) :: self
     type(dist_mesh_t), intent(in) :: mesh
@@ -355,7 +355,7 @@ contains
       do a = 1, 3
         sig(a, a) = sig(a, a) + self%lambda(r) * (eps(1,1) + eps(2,2) + eps(3,3))
       end do
-      stress(:, c) = [sig(1,1), sig(1,2), sig(1,3), sig(2,2), sig(2,3), sig(3,3)]
+      stress(:, c) = [sig(1,1), sig(2,2), sig(3,3), sig(1,2), sig(2,3), sig(1,3)]
     end do
   end subroutine cell_stress
 

@@ -25,6 +25,8 @@
 !>     accept_step()  or  load_state(st) and a smaller step
 !>     report_step(stats)         its progress line
 !>     write_output(out)          its fields of the step
+!>     sample(pf)                 the fields &probe may name (probe_names) and
+!>                                scalars of its own, for the probe file
 !>   finish(log)                  closing lines of the run
 !>
 !> A linear physics (max_newton = 1) solves for its state in one iteration;
@@ -49,6 +51,7 @@ module simulation
   use fault_config, only: fault_config_t
   use dist_mesh, only: dist_mesh_t
   use field_output, only: field_output_t
+  use probe_fields, only: probe_fields_t
   implicit none
   private
 
@@ -104,6 +107,8 @@ module simulation
     procedure :: unused_inputs
     procedure :: parameter_groups
     procedure :: open_output
+    procedure :: probe_names
+    procedure :: sample
     procedure :: accept_step
     procedure :: finish
   end type simulation_t
@@ -268,6 +273,22 @@ contains
     type(field_output_t), intent(inout) :: out
     type(error_status_t), intent(inout) :: status
   end subroutine open_output
+
+  !> The quantities of probe_config's list that sample provides (default:
+  !> none, so a deck with &probe fields is refused).
+  subroutine probe_names(self, names)
+    class(simulation_t), intent(in) :: self
+    character(len=8), allocatable, intent(out) :: names(:)
+    allocate(names(0))
+  end subroutine probe_names
+
+  !> The fields of the accepted state that the probes read, and scalars of
+  !> the physics' own (probe_fields_t; default: nothing). Collective.
+  subroutine sample(self, pf, status)
+    class(simulation_t), intent(inout) :: self
+    type(probe_fields_t), intent(inout) :: pf
+    type(error_status_t), intent(inout) :: status
+  end subroutine sample
 
   !> The step is accepted: the current state becomes the old state of the
   !> next step (default: nothing to do).

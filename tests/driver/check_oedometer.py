@@ -27,14 +27,14 @@ def sigma_zz(z):
 
 def main():
     run = Run(sys.argv[1], sys.argv[2])
-    s = run.field("stress")          # (n_cells, 6): xx xy xz yy yz zz
+    s = run.field("stress")          # (n_cells, 6): xx yy zz xy yz xz
     reg = run.field("region")
     zc = run.cell_centres()[:, 2]
     exact = sigma_zz(zc)
-    err_zz = np.max(np.abs(s[:, 5] - exact)) / q
+    err_zz = np.max(np.abs(s[:, 2] - exact)) / q
     lateral = np.array([nu[r] / (1 - nu[r]) for r in reg]) * exact
-    err_xx = max(np.max(np.abs(s[:, 0] - lateral)), np.max(np.abs(s[:, 3] - lateral))) / q
-    err_sh = np.max(np.abs(s[:, [1, 2, 4]])) / q
+    err_xx = max(np.max(np.abs(s[:, 0] - lateral)), np.max(np.abs(s[:, 1] - lateral))) / q
+    err_sh = np.max(np.abs(s[:, [3, 4, 5]])) / q
     ok = err_zz < 1e-8 and err_xx < 1e-8 and err_sh < 1e-8 and set(np.unique(reg)) == {1, 2}
     print(f"cells {len(zc)}, regions {sorted(set(np.unique(reg)))}: sigma_zz error {err_zz:.2e}, "
           f"lateral error {err_xx:.2e}, shear {err_sh:.2e} (relative to q, tol 1e-8)")

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The program end to end: the Gmsh deck on 2 ranks against the oedometric
-# solution, its output files and log; the matrix export of the cube deck.
+# solution, its output files and log; the matrix export of the cube deck;
+# the stress components at ParaView's positions and the probe file.
 set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -106,5 +107,24 @@ if [ "$nfiles" -eq "$expect" ] && [ "$nsteps" -gt 10 ]; then
 else
   ko "every = 10: $nsteps steps, $nfiles output files, expected $expect"
 fi
+# 5. the stress order ParaView labels (XX YY ZZ XY YZ XZ) on two exact
+# constant-stress states, and the probe file of the triaxial box: against the
+# exact solution, the field output, and 1 vs 2 ranks
+for np in 1 2; do
+  sed -e "s#dir = 'out'#dir = '$out/triaxial$np'#" tests/decks/triaxial_probes.nml > "$out/triaxial$np.nml"
+  if timeout 120 mpirun --oversubscribe -np "$np" bin/geoblock "$out/triaxial$np.nml" > "$out/triaxial$np.stdout" 2>&1 \
+     < /dev/null; then ok "triaxial box with probes runs on $np rank(s)"; else ko "triaxial box fails, see $out/triaxial$np.stdout"; fi
+  if r=$($PY tests/driver/check_outputs.py probes "$out/triaxial$np" triaxial 2>&1); then ok "$np rank(s): $r"; else ko "$np rank(s): $r"; fi
+done
+if r=$($PY tests/driver/check_outputs.py stress "$out/triaxial2" triaxial triaxial 2>&1); then ok "$r"; else ko "$r"; fi
+if r=$($PY tests/driver/check_outputs.py same_csv "$out/triaxial1/triaxial_probes.csv" "$out/triaxial2/triaxial_probes.csv" \
+  1e-10 2>&1); then ok "probes, 1 vs 2 ranks: $r"; else ko "probes, 1 vs 2 ranks: $r"; fi
+sed -e "s#dir = 'out'#dir = '$out/shear'#" tests/decks/shear_box.nml > "$out/shear.nml"
+if timeout 120 mpirun --oversubscribe -np 2 bin/geoblock "$out/shear.nml" > "$out/shear.stdout" 2>&1 < /dev/null; then
+  ok "sheared box runs"
+else
+  ko "sheared box fails, see $out/shear.stdout"
+fi
+if r=$($PY tests/driver/check_outputs.py stress "$out/shear" shear shear 2>&1); then ok "$r"; else ko "$r"; fi
 echo "suite driver_outputs: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

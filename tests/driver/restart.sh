@@ -58,6 +58,12 @@ cat > "$out/elasticity.tpl" <<'DECK'
 &solver
   method = 'fgmres', precon = 'boomeramg', rtol = 1.0e-8
 /
+&probe
+  name = 'pt', x = 1.1, 0.3, y = 0.7, 1.5, z = 0.4, 1.0, fields = 'ux', 'uz', 'sxz'
+/
+&probe
+  name = 'top', set = 'zmax', fields = 'uz', 'szz'
+/
 &output
   dir = '@DIR@', prefix = 'el' @OUT@
 /
@@ -99,6 +105,9 @@ cat > "$out/biot.tpl" <<'DECK'
 /
 &solver
   @SOLVER@
+/
+&probe
+  name = 'mid', x = 0.5, y = 0.5, z = 5.0, fields = 'p', 'uz', 'szz'
 /
 &output
   dir = '@DIR@', prefix = 'biot' @OUT@
@@ -164,6 +173,8 @@ restart_case() {
   done
   awk -F, -v k="$k" 'NR == 1 || $1 + 0 <= k' "$a/${p}_residuals.csv" > "$b/${p}_residuals.csv"
   echo "$((k + 1)),9.99e+99,1,0,1.0" >> "$b/${p}_residuals.csv"
+  awk -F, -v k="$k" 'NR == 1 || $1 + 0 <= k' "$a/${p}_probes.csv" > "$b/${p}_probes.csv"
+  echo "$((k + 1)),9.99e+99,1.0" >> "$b/${p}_probes.csv"
   deck "$tpl" "$b" ", restart = '$b/${p}_checkpoint.h5'" "" "$time" "$solver" > "$b.nml"
   if ! run "$np" "$b.nml" "$b.stdout"; then ko "$what: the restarted run fails, see $b.stdout"; return; fi
   grep -q "restart from '.*': step $k " "$b.stdout" || ko "$what: no restart line in $b.stdout"
@@ -178,6 +189,15 @@ restart_case() {
     ok "$what: XDMF index and residual history ($(($(wc -l < "$a/${p}_residuals.csv") - 1)) rows) identical"
   else
     ko "$what: XDMF or residual history differ ($a, $b)"
+  fi
+  if [ -f "$a/${p}_probes.csv" ] && cmp -s "$a/${p}_probes.csv" "$b/${p}_probes.csv"; then
+    ok "$what: probe file ($(($(wc -l < "$a/${p}_probes.csv") - 1)) rows, $(head -1 "$a/${p}_probes.csv" | tr ',' '\n' | wc -l) columns) identical"
+  else
+    ko "$what: probe files differ or missing ($a, $b)"
+  fi
+  if [ -f "$a/${p}_fractures.xdmf" ] || [ -f "$b/${p}_fractures.xdmf" ]; then
+    cmp -s "$a/${p}_fractures.xdmf" "$b/${p}_fractures.xdmf" && ok "$what: fractures XDMF identical" || \
+      ko "$what: fractures XDMF differ ($a, $b)"
   fi
 }
 

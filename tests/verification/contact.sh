@@ -7,7 +7,7 @@
 #  - a fault in stick under a homogeneous stress: the intact solution exactly;
 #  - a partly slipping fracture with tips in a block: 1 vs 2 ranks to 1e-8
 #    with the fracture shared by both ranks; the three block preconditioners
-#    (FGMRES) give MUMPS's solution.
+#    (FGMRES) give MUMPS's solution; its <prefix>_fractures.xdmf read by meshio.
 set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -73,6 +73,10 @@ deck block_mumps tests/decks/contact_block.nml
 deck block_mumps1 tests/decks/contact_block.nml
 if run block_mumps 2 && run block_mumps1 1; then
   check "the fracture crosses the partition" $PY tests/verification/check_contact.py ranks "$out/block_mumps" 2
+  check "block_mumps_fractures.xdmf read by meshio, every step = HDF5; legend, CFF, slip frame" $PY \
+    tests/verification/check_contact.py meshio "$out/block_mumps" 10 0
+  grep -q 'AttributeType="Tensor6"' "$out/block_mumps.xdmf" && ! grep -q 'fractures' "$out/block_mumps.xdmf" && \
+    ok "the main XDMF has the stress, no fracture grid" || ko "main XDMF: stress missing or fracture grid in it"
   check "partly slipping fracture, 1 vs 2 ranks (1e-8)" $PY tests/verification/check_contact.py same \
     "$out/block_mumps1" "$out/block_mumps" 1e-8
 fi

@@ -227,7 +227,7 @@ contains
     do i = 1, 3
       sig(i, i) = sig(i, i) + lam * (eps(1,1) + eps(2,2) + eps(3,3))
     end do
-    sexp = [sig(1,1), sig(1,2), sig(1,3), sig(2,2), sig(2,3), sig(3,3)]
+    sexp = [sig(1,1), sig(2,2), sig(3,3), sig(1,2), sig(2,3), sig(1,3)]
     serr = 0.0_rp
     do c = 1, mesh%cell_map%n_owned
       serr = max(serr, maxval(abs(stress(:, c) - sexp)))
