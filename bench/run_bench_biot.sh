@@ -44,6 +44,7 @@ for n in $sizes; do
             -e "s#dt = 0.05, t_end = 200.0, dt_growth = 1.12, dt_max = 5.0#dt = $g, t_end = $g, undrained = .false.#" \
             -e "s#method = 'fgmres', precon = 'block', rtol = 1.0e-8#$solver#" \
             -e "s#dir = 'out', prefix = 'mandel'#dir = '$out/$name', prefix = 'mandel', fields = .false.#" \
+            -e "s#history = 'mandel_plate.tab'#history = '$PWD/input/mandel_plate.tab'#" \
             input/mandel.nml > "$out/$name.nml"
         log=$out/$name.log
         /usr/bin/time -v mpirun --oversubscribe -np "$np" bin/geoblock "$out/$name.nml" > "$log" 2>&1

@@ -71,7 +71,7 @@ contains
       if (len_trim(set) == 0) call d%fail(status, 'boundary', k, 'set', 'required')
       bcs(k)%set = set
       bcs(k)%type = type
-      bcs(k)%history = history
+      call d%input_path('boundary', k, 'history', history, bcs(k)%history, status)
       select case (type)
       case ('displacement')
         bcs(k)%fixed = [ux, uy, uz] /= unset_real

@@ -17,6 +17,7 @@ module deck
   use kinds, only: ip, rp, path_len, msg_len, name_len
   use parallel_comm, only: parallel_comm_t
   use os_services, only: path_kind, path_directory
+  use strings, only: itoa
   use error_status, only: error_status_t
   use logger, only: logger_t
   implicit none
@@ -47,6 +48,7 @@ module deck
     procedure :: fail
     procedure :: echo
     procedure :: assigned
+    procedure :: input_path
   end type deck_t
 
   interface is_set
@@ -659,6 +661,35 @@ contains
       self%first_line(name, k), "), variable "//trim(var)//": "//trim(what)
     call status%set(m)
   end subroutine fail
+
+  !> An input file named by variable var of the k-th group name, resolved
+  !> against the deck's own directory (an absolute path stays as it is), so
+  !> that a deck and its mesh or tables can be moved together and run from
+  !> anywhere. Refused, naming the variable, when the result would not fit
+  !> path_len characters (nothing is cut).
+  subroutine input_path(self, name, k, var, path, resolved, status)
+    class(deck_t), intent(in) :: self
+    character(len=*), intent(in) :: name, var, path
+    integer, intent(in) :: k
+    character(len=*), intent(out) :: resolved
+    type(error_status_t), intent(inout) :: status
+    character(len=:), allocatable :: full
+    integer :: slash
+    resolved = ''
+    if (len_trim(path) == 0) return
+    slash = index(self%path, '/', back=.true.)
+    if (path(1:1) == '/' .or. slash == 0) then
+      full = trim(path)
+    else
+      full = self%path(1:slash)//trim(path)
+    end if
+    if (len(full) > len(resolved)) then
+      call self%fail(status, name, k, var, "'"//trim(path)//"' relative to the deck's directory is longer than "// &
+                     itoa(len(resolved))//' characters')
+      return
+    end if
+    resolved = full
+  end subroutine input_path
 
   !> Whether the k-th occurrence of group name assigns variable var (any
   !> case, with or without an array section).

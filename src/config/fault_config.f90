@@ -165,7 +165,7 @@ contains
       faults(k)%friction_angle = friction_angle
       faults(k)%cohesion = cohesion
       faults(k)%pressure = pressure
-      faults(k)%pressure_history = pressure_history
+      call d%input_path('fault', k, 'pressure_history', pressure_history, faults(k)%pressure_history, status)
       faults(k)%initial_state = initial_state
       faults(k)%box_geometry = source == 'box'
     end do

@@ -132,7 +132,7 @@ contains
     end select
     if (.not. status%ok()) return
     self%source = source
-    self%file = file
+    call d%input_path('mesh', 1, 'file', file, self%file, status)
     self%n = [nx, ny, nz]
     self%lower = lower
     self%upper = upper

@@ -13,7 +13,7 @@ ok() { echo "  ok    $1"; pass=$((pass + 1)); }
 ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
 
 # 1. Gmsh mesh, two regions, oedometer
-sed -e "s#dir = 'out'#dir = '$out/gmsh'#" -e "s#rtol = 1.0e-8#rtol = 1.0e-12#" input/gmsh_block.nml > "$out/gmsh.nml"
+sed -e "s#dir = 'out'#dir = '$out/gmsh'#" -e "s#rtol = 1.0e-8#rtol = 1.0e-12#" -e "s#file = '../meshes/two_layers.msh'#file = '$PWD/meshes/two_layers.msh'#" input/gmsh_block.nml > "$out/gmsh.nml"
 if timeout 300 mpirun --oversubscribe -np 2 bin/geoblock "$out/gmsh.nml" > "$out/gmsh.stdout" 2>&1 < /dev/null; then
   ok "gmsh_block deck runs on 2 ranks"
 else
@@ -95,7 +95,7 @@ PY
 ); then ok "source: $r"; else ko "source: $r"; fi
 # 4. output every n-th step: Mandel to t = 3 s (steps 0..25) with every = 10
 sed -e "s#dir = 'out', prefix = 'mandel'#dir = '$out/every', prefix = 'mandel', every = 10#" -e "s#t_end = 200.0#t_end = 3.0#" \
-  input/mandel.nml > "$out/every.nml"
+  -e "s#history = 'mandel_plate.tab'#history = '$PWD/input/mandel_plate.tab'#" input/mandel.nml > "$out/every.nml"
 timeout 120 mpirun --oversubscribe -np 2 bin/geoblock "$out/every.nml" > "$out/every.stdout" 2>&1 < /dev/null
 nsteps=$(grep -c '^step' "$out/every.stdout")
 nfiles=$(ls "$out/every"/mandel_[0-9]*.h5 2>/dev/null | wc -l)

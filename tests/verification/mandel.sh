@@ -15,7 +15,7 @@ ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
 deck() {  # name, sed expressions
   local name=$1; shift
   sed -e "s#dir = 'out'#dir = '$out/$name'#" -e "s#dt_max = 5.0#dt_max = 2.0#" -e "s#t_end = 200.0#t_end = 60.0#" \
-      "$@" input/mandel.nml > "$out/$name.nml"
+      -e "s#history = 'mandel_plate.tab'#history = '$PWD/input/mandel_plate.tab'#" "$@" input/mandel.nml > "$out/$name.nml"
 }
 run() {
   timeout 600 mpirun --oversubscribe -np "$2" bin/geoblock "$out/$1.nml" > "$out/$1.log" 2>&1 < /dev/null
