@@ -17,7 +17,11 @@
 !> element in a volume (tetrahedra, prisms, pyramids, second-order elements) and
 !> any non-quad on a tagged surface is an error. Sections the reader does not
 !> need ($Periodic, $NodeData, ...) are skipped; partitioned files are refused.
-!> Errors name the file, the line and what was expected there.
+!> Errors name the file, the line and what was expected there. Node
+!> coordinates are checked as text before conversion (nan, inf, 1e400 and
+!> garbage refused; magnitudes beyond 1e30 m too), and every count of a
+!> header is checked against the size of the file before anything is
+!> allocated for it; mesh%check then refuses degenerate hexahedra.
 module gmsh_reader
   use kinds, only: rp, ip, gp, name_len, msg_len
   use error_status, only: error_status_t
@@ -44,6 +48,10 @@ module gmsh_reader
   !> it: a node is a tag line and a coordinate line ("1", "0 0 0"), a node
   !> or element block header four numbers, a physical name "d t n", an
   !> entity at least five numbers; an element line its tag and node tags.
+  !> Largest coordinate magnitude accepted [m]: far beyond any geometry, and
+  !> small enough that products of a few lengths (volumes, det J) stay finite.
+  real(rp), parameter :: max_coord = 1.0e30_rp
+
   integer(gp), parameter :: node_bytes = 8, block_bytes = 8, name_bytes = 6, entity_bytes = 10
 
   !> The open file and the current line, for error messages.
@@ -871,6 +879,11 @@ contains
         return
       end if
       read(tok, *, iostat=ios) x(i)
+      if (abs(x(i)) > max_coord) then
+        call bad_line(f, 'node tag '//str(tag)//': coordinate '//axis(i)//' "'//tok//'" is beyond 1e30 m in '// &
+          'magnitude (the element integrals would overflow)', status)
+        return
+      end if
     end do
   end subroutine read_coords
 

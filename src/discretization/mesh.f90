@@ -283,18 +283,23 @@ contains
         if (det <= 8.0_rp * epsilon(1.0_rp) * ext**3) then
           write(m, '(g0.4)') det
           call status%set('mesh: '//cell_name(self, c)//' is degenerate or inverted (Jacobian determinant '// &
-            trim(m)//' at '//trim(merge('its centre  ', 'node       '//digit(k), k == 9))// &
+            trim(m)//' at '//where(k)// &
             '; collapsed, flat, inverted or with coinciding nodes); its nodes: '//node_list(x))
           return
         end if
       end do
     end do
   contains
-    function digit(i) result(t)
+    !> Where point k of corner(:, k) is: a node of the cell or its centre.
+    function where(i) result(t)
       integer(ip), intent(in) :: i
-      character(len=1) :: t
-      t = achar(iachar('0') + i)
-    end function digit
+      character(len=:), allocatable :: t
+      if (i == 9) then
+        t = 'its centre'
+      else
+        t = 'its node '//achar(iachar('0') + i)
+      end if
+    end function where
   end subroutine check
 
   !> "element <tag>" (mesh file) or "cell <index>" (generated mesh).
