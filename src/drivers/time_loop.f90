@@ -69,6 +69,8 @@ contains
     do
       stats = step_stats_t(step=step, n_steps=rs%schedule%known_steps())
       if (.not. rs%schedule%next(step, rs%t, stats%t, stats%dt)) exit
+      if (rs%schedule%beyond_limit(step)) call log%fatal(comm, 'step '//itoa(step)//' (t = '//trim(rtoa(rs%t))// &
+        '): the run would take more than &time max_steps = '//itoa(run%max_steps)//' steps (raise max_steps)')
       call advance(comm, log, sim, rs, stats)
       call sim%report_step(stats, line)
       call log%info(line)
