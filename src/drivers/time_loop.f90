@@ -11,7 +11,8 @@
 !> line that says how to resume. &run restart starts the loop at the step
 !> after a checkpoint's, from its state.
 module time_loop
-  use kinds, only: rp, msg_len, path_len
+  use kinds, only: rp, gp, msg_len, path_len
+  use machine_memory, only: total_memory_bytes
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
   use status_sync, only: agree
@@ -156,7 +157,13 @@ contains
     class(simulation_t), intent(inout) :: sim
     type(mesh_config_t), intent(inout) :: mcfg
     type(error_status_t), intent(inout) :: status
+    integer(gp) :: mem_total
     call mcfg%read(d, log, status)
+    ! the machine's memory as rank 0 sees it, so that every rank decides alike
+    mem_total = -1
+    if (comm%is_root()) mem_total = total_memory_bytes()
+    call comm%bcast(mem_total)
+    call mcfg%check_size(d, run%physics, mem_total, status)
     sim%comm = comm
     if (status%ok()) call sim%read_deck(d, mcfg, log, status)
     if (status%ok()) call sim%check_foreign(d, status)
