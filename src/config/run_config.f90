@@ -264,7 +264,7 @@ contains
     type(error_status_t), intent(inout) :: status
     real(rp) :: t, h, step_dt, t_stop
     integer :: k
-    character(len=:), allocatable :: about
+    character(len=:), allocatable :: about, cap
     t = 0.0_rp
     h = self%dt
     t_stop = self%t_end * (1.0_rp - 1.0e-12_rp)   ! the schedule's end tolerance
@@ -285,9 +285,10 @@ contains
     about = ''
     if (self%dt_growth == 1.0_rp .or. self%dt_max <= self%dt) &
       about = ', about '//steps_text(log10(self%t_end) - log10(min(self%dt, self%dt_max)))
+    cap = ''
+    if (self%dt_max < huge(1.0_rp)) cap = ', dt_max = '//rtoa(self%dt_max)
     call d%fail(status, 'time', 1, 'max_steps', 't_end = '//rtoa(self%t_end)//' with dt = '//rtoa(self%dt)// &
-      ', dt_growth = '//rtoa(self%dt_growth)//trim(merge(', dt_max = '//rtoa(min(self%dt_max, 1.0e300_rp)), &
-      repeat(' ', 40), self%dt_max < huge(1.0_rp)))//' takes more than max_steps = '//itoa(self%max_steps)// &
+      ', dt_growth = '//rtoa(self%dt_growth)//cap//' takes more than max_steps = '//itoa(self%max_steps)// &
       ' steps'//about//' (raise max_steps, or use a larger dt, dt_growth or dt_max)')
   end subroutine check_step_count
 
