@@ -20,6 +20,7 @@ module deck
   use strings, only: itoa
   use error_status, only: error_status_t
   use logger, only: logger_t
+  use number_text, only: non_finite_word, numeric_literal, beyond_double
   implicit none
   private
 
@@ -274,54 +275,7 @@ contains
     vals = vals(1:n)
   end subroutine group_values
 
-  !> Whether the numeric literal tok is larger in magnitude than the largest
-  !> double (about 1.8e308), found from its digits and exponent without
-  !> arithmetic that could overflow (the checked build traps overflow).
-  logical function beyond_double(tok)
-    character(len=*), intent(in) :: tok
-    character(len=len(tok)) :: t, mant
-    integer :: e, p, ios, expo, mag, k, first
-    real(rp) :: lead
-    beyond_double = .false.
-    t = lower(tok)
-    e = scan(t, 'ed')
-    expo = 0
-    mant = t
-    if (e > 0) then
-      read(t(e+1:), *, iostat=ios) expo
-      if (ios /= 0) return
-      mant = t(1:e-1)
-    end if
-    if (mant(1:1) == '+' .or. mant(1:1) == '-') mant = mant(2:)
-    p = index(mant, '.')
-    if (p == 0) p = len_trim(mant) + 1
-    ! magnitude: position of the first non-zero digit relative to the point
-    first = scan(mant, '123456789')
-    if (first == 0) return                      ! zero
-    if (first < p) then
-      mag = p - first - 1 + expo
-    else
-      mag = p - first + expo
-    end if
-    if (mag > 308) beyond_double = .true.
-    if (mag /= 308) return
-    ! 308: compare the leading digits d.ddd with 1.7976931348623157
-    lead = 0.0_rp
-    do k = len_trim(mant), first, -1
-      if (mant(k:k) == '.') cycle
-      lead = lead / 10.0_rp + real(iachar(mant(k:k)) - iachar('0'), rp)
-    end do
-    beyond_double = lead > 1.7976931348623157_rp
-  end function beyond_double
 
-  !> Whether tok reads as a number (digits, sign, point, exponent letter).
-  pure logical function numeric_literal(tok)
-    character(len=*), intent(in) :: tok
-    numeric_literal = .false.
-    if (len(tok) == 0) return
-    if (verify(tok(1:1), '+-.0123456789') /= 0) return
-    numeric_literal = verify(lower(tok), '+-.0123456789ed') == 0 .and. scan(tok, '0123456789') > 0
-  end function numeric_literal
 
   !> Whether the token ending at position k of s is followed by '=' (then it
   !> names a variable, possibly with an array section).
@@ -338,18 +292,6 @@ contains
     if (e <= len_trim(s)) followed_by_equals = s(e:e) == '='
   end function followed_by_equals
 
-  !> nan, inf, infinity with an optional sign or payload, any case.
-  pure logical function non_finite_word(tok)
-    character(len=*), intent(in) :: tok
-    character(len=len(tok)) :: t
-    integer :: b
-    t = lower(tok)
-    b = 1
-    if (t(1:1) == '+' .or. t(1:1) == '-') b = 2
-    non_finite_word = .false.
-    if (b > len(t)) return
-    non_finite_word = t(b:) == 'nan' .or. t(b:) == 'inf' .or. t(b:) == 'infinity' .or. index(t(b:), 'nan(') == 1
-  end function non_finite_word
 
   !> Which occurrence of its name group g is (1 for the first).
   integer function occurrence(self, g)

@@ -16,7 +16,7 @@ module param_group
   implicit none
   private
 
-  public :: param_group_t, param_line_len
+  public :: push_line, param_group_t, param_line_len
 
   !> length of the lines returned by lines() (the deck reader takes 256)
   integer, parameter :: param_line_len = 256
@@ -211,7 +211,8 @@ contains
     character(len=piece_len), allocatable :: pieces(:)
     character(len=:), allocatable :: head, note
     integer :: i, j, w
-    out = [character(len=param_line_len) :: '&'//trim(self%name)]
+    allocate(out(0))
+    call push_line(out, '&'//trim(self%name))
     w = name_width(self)
     do i = 1, self%n
       associate (p => self%p(i))
@@ -225,17 +226,32 @@ contains
         end if
         if (size(pieces) > 1 .or. len(head) + 2 + len(note) > param_line_len) then
           ! the comment on a line of its own, before the value
-          out = [out, [character(len=param_line_len) :: '  ! ['//p%unit//'] '//p%meaning, head]]
+          call push_line(out, '  ! ['//p%unit//'] '//p%meaning)
+          call push_line(out, head)
           do j = 2, size(pieces)
-            out = [out, [character(len=param_line_len) :: '  '//repeat(' ', w + 3)//trim(pieces(j))]]
+            call push_line(out, '  '//repeat(' ', w + 3)//trim(pieces(j)))
           end do
         else
-          out = [out, [character(len=param_line_len) :: pad(head, 44)//'  '//note]]
+          call push_line(out, pad(head, 44)//'  '//note)
         end if
       end associate
     end do
-    out = [out, [character(len=param_line_len) :: '/']]
+    call push_line(out, '/')
   end function lines
+
+  !> Append one line to out (no array constructor: gfortran 12's checked
+  !> build mistakes the length of a character function result in one).
+  subroutine push_line(out, text)
+    character(len=param_line_len), allocatable, intent(inout) :: out(:)
+    character(len=*), intent(in) :: text
+    character(len=param_line_len), allocatable :: tmp(:)
+    integer :: n
+    n = size(out)
+    allocate(tmp(n + 1))
+    tmp(1:n) = out
+    tmp(n + 1) = text
+    call move_alloc(tmp, out)
+  end subroutine push_line
 
   integer function name_width(self)
     type(param_group_t), intent(in) :: self

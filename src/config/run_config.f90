@@ -22,6 +22,11 @@
 !>           undrained    biot: start with the undrained response at t = 0  [.true.]
 !>           times        biot: explicit list of step end times [s], increasing;
 !>                        replaces dt, dt_growth, dt_max and t_end          [none]
+!>           max_steps    the most steps a run may take (>= 1): n_steps, the
+!>                        number of times, or the steps dt, dt_growth and
+!>                        dt_max take to reach t_end (counted at read time)
+!>                        above it are refused, and the schedule stops with
+!>                        an error if it ever goes beyond it              [100000]
 !> &output   dir          output directory (created if missing)             ['out']
 !>           prefix       file name prefix                        [deck file name without .nml]
 !>           fields       write HDF5 fields + XDMF                             [.true.]
@@ -33,6 +38,7 @@
 !>           checkpoint_file  the checkpoint's path, overwritten at each
 !>                        checkpoint; a plain name goes into dir  [<dir>/<prefix>_checkpoint.h5]
 module run_config
+  use, intrinsic :: iso_fortran_env, only: int64
   use kinds, only: rp, ip, path_len, msg_len, name_len
   use error_status, only: error_status_t
   use logger, only: logger_t
@@ -46,12 +52,14 @@ module run_config
   public :: run_config_t
 
   integer, parameter :: max_times = 4096
+  integer, parameter :: default_max_steps = 100000
 
   type :: run_config_t
     character(len=128) :: title = ''
     character(len=name_len) :: physics = 'elasticity'
     integer :: verbosity = 1
     integer :: n_steps = 1
+    integer :: max_steps = default_max_steps      !< the most steps of a run
     real(rp) :: dt = -1.0_rp, t_end = -1.0_rp, dt_growth = 1.0_rp, dt_max = huge(1.0_rp)
     logical :: undrained = .true.
     real(rp), allocatable :: times(:)            !< explicit step end times (biot), if given
@@ -119,12 +127,13 @@ contains
     type(deck_t), intent(in) :: d
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
-    integer :: n_steps, ios, nt
+    integer :: n_steps, ios, nt, max_steps
     real(rp) :: dt, t_end, dt_growth, dt_max, times(max_times)
     logical :: undrained
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    namelist /time/ n_steps, dt, t_end, dt_growth, dt_max, undrained, times
+    namelist /time/ n_steps, dt, t_end, dt_growth, dt_max, undrained, times, max_steps
+    max_steps = default_max_steps
     n_steps = 1; dt = unset_real; t_end = unset_real; dt_growth = 1.0_rp; dt_max = huge(1.0_rp); undrained = .true.
     times = unset_real
     if (d%count('time') > 0) then
@@ -135,8 +144,13 @@ contains
         return
       end if
       if (n_steps < 1) call d%fail(status, 'time', 1, 'n_steps', 'must be at least 1 (got '//itoa(n_steps)//')')
+      if (max_steps < 1) call d%fail(status, 'time', 1, 'max_steps', 'must be at least 1 (got '//itoa(max_steps)//')')
+      if (status%ok() .and. n_steps > max_steps) call d%fail(status, 'time', 1, 'n_steps', &
+        'n_steps = '//itoa(n_steps)//' is more than max_steps = '//itoa(max_steps)//' (raise max_steps)')
     end if
     nt = count(times /= unset_real)
+    if (status%ok() .and. nt > max_steps) call d%fail(status, 'time', 1, 'times', &
+      'the '//itoa(nt)//' times are more steps than max_steps = '//itoa(max_steps)//' (raise max_steps)')
     if (nt > 0) then
       if (any(times(nt+1:) /= unset_real)) call d%fail(status, 'time', 1, 'times', 'give the times without gaps')
       if (.not. times(1) > 0.0_rp) call d%fail(status, 'time', 1, 'times', 'the first time must be positive')
@@ -152,6 +166,7 @@ contains
     end if
     if (.not. status%ok()) return
     self%n_steps = n_steps
+    self%max_steps = max_steps
     self%dt = dt
     self%t_end = t_end
     self%dt_growth = dt_growth
@@ -231,6 +246,7 @@ contains
       call d%fail(status, 'time', 1, 'dt_growth', 'must be >= 1 (got '//rtoa(self%dt_growth)//')')
     if (.not. self%dt_max > 0.0_rp) &
       call d%fail(status, 'time', 1, 'dt_max', 'must be positive (got '//rtoa(self%dt_max)//')')
+    if (status%ok() .and. .not. allocated(self%times)) call check_step_count(self, d, status)
   end subroutine check_transient
 
   !> The resolved &run, &time and &output groups (groups(1:3)), both kinds
@@ -273,6 +289,7 @@ contains
         call g%add_unset('dt_max', '(none)', 's', 'largest step (none: no limit)')
       end if
       call g%add('undrained', self%undrained, '-', 'start with the undrained response at t = 0')
+      call g%add('max_steps', self%max_steps, '-', 'bound on the number of steps')
     end associate
     associate (g => groups(3))
       call g%init('output')
@@ -285,4 +302,56 @@ contains
       call g%add('checkpoint_file', self%checkpoint_given, '-', "checkpoint path ('': <dir>/<prefix>_checkpoint.h5)")
     end associate
   end subroutine describe_run_config
+
+  !> The steps from dt (growing by dt_growth, at most dt_max) to t_end must
+  !> be at most max_steps: counted step by step as the schedule takes them,
+  !> without arithmetic that could overflow, up to max_steps + 1.
+  subroutine check_step_count(self, d, status)
+    type(run_config_t), intent(in) :: self
+    type(deck_t), intent(in) :: d
+    type(error_status_t), intent(inout) :: status
+    real(rp) :: t, h, step_dt, t_stop
+    integer :: k
+    character(len=:), allocatable :: about, cap
+    t = 0.0_rp
+    h = self%dt
+    t_stop = self%t_end * (1.0_rp - 1.0e-12_rp)   ! the schedule's end tolerance
+    k = 0
+    do while (t < t_stop)
+      if (k >= self%max_steps) exit
+      k = k + 1
+      step_dt = min(h, self%dt_max, self%t_end - t)
+      t = t + step_dt
+      if (h >= self%t_end / self%dt_growth) then
+        h = self%t_end                              ! growing further changes nothing
+      else
+        h = h * self%dt_growth
+      end if
+    end do
+    if (t >= t_stop) return
+    ! with constant steps, the count is t_end / dt (written from its logarithm: it may exceed the doubles)
+    about = ''
+    if (self%dt_growth == 1.0_rp .or. self%dt_max <= self%dt) &
+      about = ', about '//steps_text(log10(self%t_end) - log10(min(self%dt, self%dt_max)))
+    cap = ''
+    if (self%dt_max < huge(1.0_rp)) cap = ', dt_max = '//rtoa(self%dt_max)
+    call d%fail(status, 'time', 1, 'max_steps', 't_end = '//rtoa(self%t_end)//' with dt = '//rtoa(self%dt)// &
+      ', dt_growth = '//rtoa(self%dt_growth)//cap//' takes more than max_steps = '//itoa(self%max_steps)// &
+      ' steps'//about//' (raise max_steps, or use a larger dt, dt_growth or dt_max)')
+  end subroutine check_step_count
+
+  !> A step count 10**e as text: "2.5e+07" style, or "1e320" beyond the doubles.
+  function steps_text(e) result(s)
+    real(rp), intent(in) :: e
+    character(len=:), allocatable :: s
+    character(len=32) :: t
+    if (e < 15.0_rp) then
+      write(t, '(i0)') nint(10.0_rp**e, kind=int64)
+    else if (e < 300.0_rp) then
+      write(t, '(es10.3)') 10.0_rp**e
+    else
+      write(t, '(a,i0)') '1e', nint(e)
+    end if
+    s = trim(adjustl(t))
+  end function steps_text
 end module run_config

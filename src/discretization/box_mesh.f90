@@ -46,7 +46,7 @@ module box_mesh
   use mesh, only: mesh_t
   use fault_config, only: fault_config_t
   use quadrature, only: gauss_hex
-  use hex_q1, only: hex_gradients
+  use hex_q1, only: hex_jacobian_det
   use strings, only: itoa, rtoa
   implicit none
   private
@@ -166,7 +166,9 @@ contains
         return
       end if
     end if
-    call mesh%build_faces(status)
+    ! cells squeezed to nothing by an extreme grading or core are refused here
+    call mesh%check(status)
+    if (status%ok()) call mesh%build_faces(status)
   contains
     pure integer(ip) function node(i, j, k)
       integer(ip), intent(in) :: i, j, k
@@ -498,14 +500,13 @@ contains
   !> True when every cell has a positive Jacobian at the 2x2x2 Gauss points.
   logical function cells_valid(mesh)
     type(mesh_t), intent(in) :: mesh
-    real(rp) :: xi(3, 8), w(8), sh(8), g(3, 8), det
+    real(rp) :: xi(3, 8), w(8)
     integer(ip) :: c, q
     call gauss_hex(2_ip, xi, w)
     cells_valid = .true.
     do c = 1, mesh%n_cells
       do q = 1, 8
-        call hex_gradients(mesh%coords(:, mesh%cell_nodes(:, c)), xi(:, q), sh, g, det)
-        if (det <= 0.0_rp) then
+        if (hex_jacobian_det(mesh%coords(:, mesh%cell_nodes(:, c)), xi(:, q)) <= 0.0_rp) then
           cells_valid = .false.
           return
         end if

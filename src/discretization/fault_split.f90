@@ -83,6 +83,8 @@ contains
         return
       end if
       face_fault(f) = i
+      call check_area(mesh, q, fault_names(i), status)
+      if (.not. status%ok()) return
     end do
 
     ! new node id of each (fault node, incident cell)
@@ -258,6 +260,30 @@ contains
       end do
     end do
   end subroutine build_ifaces
+
+  !> Fault quad q must have an area above round-off of its size (its normal
+  !> is divided by its length when the interface elements are built): a quad
+  !> whose nodes coincide or lie on a line is refused with its coordinates.
+  subroutine check_area(mesh, q, fault_name, status)
+    type(mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: q
+    character(len=*), intent(in) :: fault_name
+    type(error_status_t), intent(inout) :: status
+    real(rp) :: x(3, 4), ext
+    character(len=msg_len) :: m
+    character(len=80) :: t
+    integer :: a
+    x = mesh%coords(:, mesh%sface_nodes(:, q))
+    ext = maxval(maxval(x, dim=2) - minval(x, dim=2))
+    if (norm2(cross(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2))) > 64.0_rp * epsilon(1.0_rp) * ext**2) return
+    write(m, '(a,i0,a)') 'fault split: quad ', q, ' of the fault "'//trim(fault_name)// &
+      '" has zero area (an interface element needs a normal); its nodes:'
+    do a = 1, 4
+      write(t, '(a,g0.6,a,g0.6,a,g0.6,a)') ' (', x(1, a), ',', x(2, a), ',', x(3, a), ')'
+      m = trim(m)//trim(t)
+    end do
+    call status%set(m)
+  end subroutine check_area
 
   !> The orientation rule: n_z > 0 if |n_z| > 1e-6, else n_y > 0 if
   !> |n_y| > 1e-6, else n_x > 0.

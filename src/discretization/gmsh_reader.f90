@@ -17,11 +17,17 @@
 !> element in a volume (tetrahedra, prisms, pyramids, second-order elements) and
 !> any non-quad on a tagged surface is an error. Sections the reader does not
 !> need ($Periodic, $NodeData, ...) are skipped; partitioned files are refused.
-!> Errors name the file, the line and what was expected there.
+!> Errors name the file, the line and what was expected there. Node
+!> coordinates are checked as text before conversion (nan, inf, 1e400 and
+!> garbage refused; magnitudes beyond 1e30 m too), and every count of a
+!> header is checked against the size of the file before anything is
+!> allocated for it; mesh%check then refuses degenerate hexahedra.
 module gmsh_reader
   use kinds, only: rp, ip, gp, name_len, msg_len
   use error_status, only: error_status_t
   use mesh, only: mesh_t
+  use os_services, only: path_kind, path_directory
+  use number_text, only: real_token_problem
   implicit none
   private
 
@@ -34,12 +40,27 @@ module gmsh_reader
   !> value so that "default" comes after the physical groups.
   integer(ip), parameter :: no_physical = huge(1_ip)
 
+  !> Nodes of the Gmsh element types 1..19 (type_name lists their names).
+  integer(ip), parameter :: type_nodes(19) = [2, 3, 4, 4, 8, 6, 5, 3, 6, 9, 10, 27, 18, 14, 1, 8, 20, 15, 13]
+
+  !> The fewest bytes an entry of a section can take in the file, to refuse
+  !> a count no file of this size can hold before anything is allocated for
+  !> it: a node is a tag line and a coordinate line ("1", "0 0 0"), a node
+  !> or element block header four numbers, a physical name "d t n", an
+  !> entity at least five numbers; an element line its tag and node tags.
+  !> Largest coordinate magnitude accepted [m]: far beyond any geometry, and
+  !> small enough that products of a few lengths (volumes, det J) stay finite.
+  real(rp), parameter :: max_coord = 1.0e30_rp
+
+  integer(gp), parameter :: node_bytes = 8, block_bytes = 8, name_bytes = 6, entity_bytes = 10
+
   !> The open file and the current line, for error messages.
   type :: msh_file_t
     integer :: unit = -1
     integer(gp) :: line_no = 0
     character(len=:), allocatable :: path
     character(len=:), allocatable :: line   !< current line, without a trailing carriage return
+    integer(gp) :: bytes = 0                !< size of the file [bytes]
   end type msh_file_t
 
   !> Physical tags of the geometric entities of one dimension (from $Entities).
@@ -71,6 +92,7 @@ module gmsh_reader
     ! hexahedra (node indices in the order met) and their region key
     integer(ip) :: n_hex = 0
     integer(ip), allocatable :: hex_nodes(:,:), hex_key(:)
+    integer(gp), allocatable :: hex_tag(:)
     ! tagged quads, one entry per (quad, physical tag); element tags for messages
     integer(ip) :: n_quad = 0
     integer(ip), allocatable :: quad_nodes(:,:), quad_key(:)
@@ -94,12 +116,18 @@ contains
 
     call mesh%free()
     f%path = trim(path)
+    if (path_kind(f%path) == path_directory) then
+      call status%set('gmsh reader: cannot open "'//f%path//'": it is a directory, not a mesh file')
+      return
+    end if
     open(newunit=f%unit, file=f%path, status='old', action='read', form='formatted', &
       access='sequential', iostat=ios, iomsg=iom)
     if (ios /= 0) then
       call status%set('gmsh reader: cannot open "'//f%path//'": '//trim(iom))
       return
     end if
+    inquire(unit=f%unit, size=f%bytes, iostat=ios)
+    if (ios /= 0) f%bytes = huge(1_gp)
     call read_sections(f, c, st)
     close(f%unit)
     if (st%ok()) call fill_mesh(f, c, mesh, st)
@@ -224,10 +252,12 @@ contains
     call next_line(f, 'the number of physical names', status)
     if (.not. status%ok()) return
     read(f%line, *, iostat=ios, iomsg=iom) n
-    if (ios /= 0 .or. n < 0) then
+    if (ios /= 0) then
       call bad_line(f, 'expected the number of physical names', status, iom)
       return
     end if
+    call check_count(f, int(n, gp), name_bytes, 'physical names', status)
+    if (.not. status%ok()) return
     c%n_names = n
     allocate(c%name_dim(n), c%name_tag(n), c%name_str(n))
     do i = 1, n
@@ -256,7 +286,7 @@ contains
     integer(ip) :: counts(0:3), dim, i, tag, n_box, n_phys
     integer(ip), allocatable :: phys(:)
     integer :: ios
-    real(rp) :: box(6)
+    character(len=64) :: box(6)   ! bounding boxes are not used: read as text, never converted
     character(len=msg_len) :: iom
     character(len=*), parameter :: what(0:3) = [character(len=70) :: &
       'a point entity: tag x y z numPhysicalTags physicalTags', &
@@ -268,10 +298,15 @@ contains
     call next_line(f, 'the entity counts', status)
     if (.not. status%ok()) return
     read(f%line, *, iostat=ios, iomsg=iom) counts
-    if (ios /= 0 .or. any(counts < 0)) then
+    if (ios /= 0) then
       call bad_line(f, 'expected the entity counts "numPoints numCurves numSurfaces numVolumes"', status, iom)
       return
     end if
+    do dim = 0, 3
+      call check_count(f, int(counts(dim), gp), entity_bytes, 'entities of dimension '//str(int(dim, gp)), status)
+    end do
+    if (status%ok()) call check_count(f, sum(int(counts, gp)), entity_bytes, 'entities', status)
+    if (.not. status%ok()) return
     do dim = 0, 3
       call table_init(c%entities(dim), counts(dim))
     end do
@@ -282,6 +317,11 @@ contains
         if (.not. status%ok()) return
         allocate(phys(0))
         read(f%line, *, iostat=ios, iomsg=iom) tag, box(1:n_box), n_phys
+        if (ios == 0 .and. n_phys > len(f%line) / 2) then
+          call bad_line(f, 'the entity claims '//str(int(n_phys, gp))//' physical tags, more than its line holds', &
+            status)
+          return
+        end if
         if (ios == 0 .and. n_phys > 0) then
           deallocate(phys)
           allocate(phys(n_phys))
@@ -313,10 +353,14 @@ contains
     call next_line(f, 'the $Nodes header', status)
     if (.not. status%ok()) return
     read(f%line, *, iostat=ios, iomsg=iom) n_blocks, n_total, tag_range
-    if (ios /= 0 .or. n_blocks < 0 .or. n_total < 0) then
-      call bad_line(f, 'expected the $Nodes header "numEntityBlocks numNodes minNodeTag maxNodeTag"', status, iom)
+    if (ios /= 0) then
+      call bad_line(f, 'expected the $Nodes header "numEntityBlocks numNodes minNodeTag maxNodeTag" '// &
+        '(four integers)', status, iom)
       return
     end if
+    call check_count(f, n_blocks, block_bytes, 'node blocks', status)
+    if (status%ok()) call check_count(f, n_total, node_bytes, 'nodes', status)
+    if (.not. status%ok()) return
     if (n_total > huge(1_ip)) then
       call bad_line(f, 'too many nodes for 32-bit local indices', status)
       return
@@ -328,11 +372,13 @@ contains
       call next_line(f, 'a node block header', status)
       if (.not. status%ok()) return
       read(f%line, *, iostat=ios, iomsg=iom) entity, n_in
-      if (ios /= 0 .or. n_in < 0) then
-        call bad_line(f, 'expected a node block header "entityDim entityTag parametric numNodesInBlock"', &
-          status, iom)
+      if (ios /= 0) then
+        call bad_line(f, 'expected a node block header "entityDim entityTag parametric numNodesInBlock" '// &
+          '(four integers)', status, iom)
         return
       end if
+      call check_count(f, n_in, node_bytes, 'nodes in the block', status)
+      if (.not. status%ok()) return
       if (k + n_in > n_total) then
         write(m, '(a,i0,a)') 'the node blocks hold more nodes than the $Nodes header says (', n_total, ')'
         call bad_line(f, trim(m), status)
@@ -350,11 +396,8 @@ contains
       do i = k + 1, k + n_in
         call next_line(f, 'node coordinates "x y z"', status)
         if (.not. status%ok()) return
-        read(f%line, *, iostat=ios, iomsg=iom) c%coords(:, i)
-        if (ios /= 0) then
-          call bad_line(f, 'expected node coordinates "x y z"', status, iom)
-          return
-        end if
+        call read_coords(f, tags(i), c%coords(:, i), status)
+        if (.not. status%ok()) return
       end do
       k = k + n_in
     end do
@@ -429,21 +472,26 @@ contains
     call next_line(f, 'the $Elements header', status)
     if (.not. status%ok()) return
     read(f%line, *, iostat=ios, iomsg=iom) n_blocks, n_total, tag_range
-    if (ios /= 0 .or. n_blocks < 0 .or. n_total < 0) then
-      call bad_line(f, 'expected the $Elements header "numEntityBlocks numElements minElementTag maxElementTag"', &
-        status, iom)
+    if (ios /= 0) then
+      call bad_line(f, 'expected the $Elements header "numEntityBlocks numElements minElementTag maxElementTag" '// &
+        '(four integers)', status, iom)
       return
     end if
+    call check_count(f, n_blocks, block_bytes, 'element blocks', status)
+    if (status%ok()) call check_count(f, n_total, 4_gp, 'elements', status)
+    if (.not. status%ok()) return
     k = 0
     do b = 1, n_blocks
       call next_line(f, 'an element block header', status)
       if (.not. status%ok()) return
       read(f%line, *, iostat=ios, iomsg=iom) entity_dim, entity_tag, elem_type, n_in
-      if (ios /= 0 .or. n_in < 0 .or. entity_dim < 0 .or. entity_dim > 3) then
+      if (ios /= 0 .or. entity_dim < 0 .or. entity_dim > 3) then
         call bad_line(f, 'expected an element block header "entityDim entityTag elementType numElementsInBlock"', &
           status, iom)
         return
       end if
+      call check_count(f, n_in, element_bytes(elem_type), 'elements in the block', status)
+      if (.not. status%ok()) return
       if (n_in > huge(1_ip)) then
         call bad_line(f, 'too many elements for 32-bit local indices', status)
         return
@@ -497,9 +545,11 @@ contains
     end if
     call reserve_i2(c%hex_nodes, 8_ip, c%n_hex + n_in)
     call reserve_i1(c%hex_key, c%n_hex + n_in)
+    call reserve_g1(c%hex_tag, c%n_hex + n_in)
     do e = 1, n_in
       c%n_hex = c%n_hex + 1
-      call read_element_line(f, c, 'a hexahedron "elementTag node1 ... node8"', c%hex_nodes(:, c%n_hex), status)
+      call read_element_line(f, c, 'a hexahedron "elementTag node1 ... node8"', c%hex_nodes(:, c%n_hex), status, &
+        c%hex_tag(c%n_hex))
       if (.not. status%ok()) return
       c%hex_key(c%n_hex) = key
     end do
@@ -673,6 +723,7 @@ contains
       if (new_id(i) /= 0) mesh%coords(:, new_id(i)) = c%coords(:, i)
     end do
     mesh%n_cells = c%n_hex
+    mesh%cell_tag = c%hex_tag(1:c%n_hex)
     allocate(mesh%cell_nodes(8, c%n_hex))
     do i = 1, c%n_hex
       mesh%cell_nodes(:, i) = new_id(c%hex_nodes(:, i))
@@ -762,6 +813,79 @@ contains
   end function physical_name
 
   ! ---------------------------------------------------------------- lines and errors
+
+  !> A count read from a header (the current line) must not be negative and
+  !> must fit in the file: n entries of at least `bytes` bytes each. Checked
+  !> before anything is allocated for them.
+  subroutine check_count(f, n, bytes, what, status)
+    type(msh_file_t), intent(in) :: f
+    integer(gp), intent(in) :: n, bytes
+    character(len=*), intent(in) :: what
+    type(error_status_t), intent(inout) :: status
+    if (.not. status%ok()) return
+    if (n < 0) then
+      call bad_line(f, 'the header claims '//str(n)//' '//what//': a count must not be negative', status)
+    else if (n > f%bytes / bytes) then
+      call bad_line(f, 'the header claims '//str(n)//' '//what//', more than the file ('//str(f%bytes)// &
+        ' bytes) can hold at '//str(bytes)//' bytes or more each: the file is cut short or the header is wrong', &
+        status)
+    end if
+  end subroutine check_count
+
+  !> The fewest bytes an element line of Gmsh type elem_type takes: its tag
+  !> and node tags, one digit and one separator each.
+  pure integer(gp) function element_bytes(elem_type)
+    integer(ip), intent(in) :: elem_type
+    element_bytes = 4
+    if (elem_type >= 1 .and. elem_type <= size(type_nodes)) element_bytes = 2 * (1 + type_nodes(elem_type))
+  end function element_bytes
+
+  !> The coordinates x(3) of the node tagged `tag` from the current line:
+  !> the first three fields, each checked as text to be a finite double
+  !> before it is converted (further fields, parametric coordinates, are
+  !> ignored).
+  subroutine read_coords(f, tag, x, status)
+    type(msh_file_t), intent(in) :: f
+    integer(gp), intent(in) :: tag
+    real(rp), intent(out) :: x(3)
+    type(error_status_t), intent(inout) :: status
+    character(len=:), allocatable :: tok, why
+    integer :: i, b, e, n, ios
+    character(len=1), parameter :: axis(3) = ['x', 'y', 'z']
+
+    x = 0.0_rp
+    e = 0
+    n = len(f%line)
+    do i = 1, 3
+      b = e + 1
+      do while (b <= n)
+        if (f%line(b:b) /= ' ' .and. f%line(b:b) /= achar(9)) exit
+        b = b + 1
+      end do
+      if (b > n) then
+        call bad_line(f, 'node tag '//str(tag)//': expected node coordinates "x y z", found '//str(int(i - 1, gp))// &
+          ' number(s)', status)
+        return
+      end if
+      e = b
+      do while (e < n)
+        if (f%line(e+1:e+1) == ' ' .or. f%line(e+1:e+1) == achar(9)) exit
+        e = e + 1
+      end do
+      tok = f%line(b:e)
+      why = real_token_problem(tok)
+      if (len(why) > 0) then
+        call bad_line(f, 'node tag '//str(tag)//': coordinate '//axis(i)//' "'//tok//'" '//why, status)
+        return
+      end if
+      read(tok, *, iostat=ios) x(i)
+      if (abs(x(i)) > max_coord) then
+        call bad_line(f, 'node tag '//str(tag)//': coordinate '//axis(i)//' "'//tok//'" is beyond 1e30 m in '// &
+          'magnitude (the element integrals would overflow)', status)
+        return
+      end if
+    end do
+  end subroutine read_coords
 
   !> Next line of the file into f%line. At the end of the file: at_end = .true.
   !> when the caller allows it, else an error saying `what` was expected.

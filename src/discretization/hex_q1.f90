@@ -5,7 +5,7 @@ module hex_q1
   implicit none
   private
 
-  public :: hex_shape, hex_gradients, quad_shape, quad_area_vector, inverse3
+  public :: hex_shape, hex_gradients, hex_jacobian_det, quad_shape, quad_area_vector, inverse3
 
   !> Reference coordinates of the 8 nodes.
   real(rp), parameter :: s(3, 8) = reshape([ &
@@ -40,6 +40,20 @@ contains
     call inverse3(j, ji, det)
     g = matmul(ji, dn)                ! g(i, a) = d n_a / d x_i
   end subroutine hex_gradients
+
+  !> det J at xi for the cell with node coordinates x(3,8), without the
+  !> inverse: the same products and sums as hex_gradients' det (so the same
+  !> value), for checking a cell before anything divides by det.
+  pure real(rp) function hex_jacobian_det(x, xi) result(det)
+    real(rp), intent(in) :: x(3, 8), xi(3)
+    real(rp) :: n(8), dn(3, 8), a(3, 3), c11, c21, c31
+    call hex_shape(xi, n, dn)
+    a = matmul(dn, transpose(x))
+    c11 = a(2,2)*a(3,3) - a(2,3)*a(3,2)
+    c21 = a(2,3)*a(3,1) - a(2,1)*a(3,3)
+    c31 = a(2,1)*a(3,2) - a(2,2)*a(3,1)
+    det = a(1,1)*c11 + a(1,2)*c21 + a(1,3)*c31
+  end function hex_jacobian_det
 
   !> Inverse ai and determinant det of a 3x3 matrix a (adjugate / det).
   pure subroutine inverse3(a, ai, det)

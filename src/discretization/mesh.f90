@@ -22,9 +22,9 @@
 !> fault are two boundary faces of faces/face_cells (no flux across them), and
 !> the fault surfaces are no longer tagged sets.
 module mesh
-  use kinds, only: rp, ip, name_len, msg_len
+  use kinds, only: rp, ip, gp, name_len, msg_len
   use error_status, only: error_status_t
-  use hex_q1, only: hex_gradients
+  use hex_q1, only: hex_jacobian_det
   implicit none
   private
 
@@ -48,6 +48,8 @@ module mesh
     integer(ip), allocatable :: cell_nodes(:,:)     !< (8, n_cells)
     integer(ip), allocatable :: cell_region(:)      !< (n_cells) index into region_names
     character(len=name_len), allocatable :: region_names(:)
+    integer(gp), allocatable :: cell_tag(:)         !< (n_cells) element tag in the mesh file (Gmsh);
+                                                    !< not allocated for a generated mesh
     ! tagged surface quads (boundary sets and internal surfaces)
     integer(ip) :: n_sfaces = 0
     integer(ip), allocatable :: sface_nodes(:,:)    !< (4, n_sfaces)
@@ -247,14 +249,20 @@ contains
     end do
   end subroutine sort_keys
 
-  !> Sanity checks of a mesh read from a file: node ids in range, no
-  !> degenerate or inverted cell (Jacobian at the centre and the corners).
+  !> Sanity checks of a mesh before any arithmetic divides by a cell's
+  !> Jacobian: node ids in range, and every cell valid: det J at the 8
+  !> corners and the centre positive and above round-off of the cell's size
+  !> (det J > 64 eps L^3 / 8, L the largest extent of its nodes along an axis;
+  !> J maps the reference cube of side 2). A collapsed, inverted or flat cell,
+  !> or one whose nodes coincide, is refused with its number (the element tag
+  !> of the mesh file when there is one, else the cell index) and its node
+  !> coordinates.
   subroutine check(self, status)
     class(mesh_t), intent(in) :: self
     type(error_status_t), intent(inout) :: status
     integer(ip) :: c, k
     character(len=msg_len) :: m
-    real(rp) :: x(3, 8), n(8), g(3, 8), det
+    real(rp) :: x(3, 8), det, ext
     real(rp), parameter :: corner(3, 9) = reshape([ &
       -1, -1, -1,  1, -1, -1,  1, 1, -1,  -1, 1, -1, &
       -1, -1,  1,  1, -1,  1,  1, 1,  1,  -1, 1,  1,  0, 0, 0], [3, 9])
@@ -264,21 +272,64 @@ contains
     end if
     do c = 1, self%n_cells
       if (any(self%cell_nodes(:, c) < 1) .or. any(self%cell_nodes(:, c) > self%n_nodes)) then
-        write(m, '(a,i0,a)') 'mesh: cell ', c, ' refers to a node that does not exist'
+        write(m, '(a,a,a)') 'mesh: ', cell_name(self, c), ' refers to a node that does not exist'
         call status%set(m)
         return
       end if
       x = self%coords(:, self%cell_nodes(:, c))
+      ext = maxval(maxval(x, dim=2) - minval(x, dim=2))
       do k = 1, 9
-        call hex_gradients(x, corner(:, k), n, g, det)
-        if (det <= 0.0_rp) then
-          write(m, '(a,i0,a)') 'mesh: cell ', c, ' is inverted or degenerate (non-positive Jacobian)'
-          call status%set(m)
+        det = hex_jacobian_det(x, corner(:, k))
+        if (det <= 8.0_rp * epsilon(1.0_rp) * ext**3) then
+          write(m, '(g0.4)') det
+          call status%set('mesh: '//cell_name(self, c)//' is degenerate or inverted (Jacobian determinant '// &
+            trim(m)//' at '//where(k)// &
+            '; collapsed, flat, inverted or with coinciding nodes); its nodes: '//node_list(x))
           return
         end if
       end do
     end do
+  contains
+    !> Where point k of corner(:, k) is: a node of the cell or its centre.
+    function where(i) result(t)
+      integer(ip), intent(in) :: i
+      character(len=:), allocatable :: t
+      if (i == 9) then
+        t = 'its centre'
+      else
+        t = 'its node '//achar(iachar('0') + i)
+      end if
+    end function where
   end subroutine check
+
+  !> "element <tag>" (mesh file) or "cell <index>" (generated mesh).
+  function cell_name(self, c) result(s)
+    class(mesh_t), intent(in) :: self
+    integer(ip), intent(in) :: c
+    character(len=:), allocatable :: s
+    character(len=24) :: t
+    if (allocated(self%cell_tag)) then
+      write(t, '(i0)') self%cell_tag(c)
+      s = 'element '//trim(t)
+    else
+      write(t, '(i0)') c
+      s = 'cell '//trim(t)
+    end if
+  end function cell_name
+
+  !> The 8 node coordinates of a cell as "(x,y,z) ..." for messages.
+  function node_list(x) result(s)
+    real(rp), intent(in) :: x(3, 8)
+    character(len=:), allocatable :: s
+    character(len=80) :: t
+    integer :: a
+    s = ''
+    do a = 1, 8
+      write(t, '(a,g0.6,a,g0.6,a,g0.6,a)') '(', x(1, a), ',', x(2, a), ',', x(3, a), ')'
+      s = s//trim(t)
+      if (a < 8) s = s//' '
+    end do
+  end function node_list
 
   !> Index of the named tagged-surface set, 0 if none has that name.
   integer(ip) function set_id(self, name)
@@ -316,6 +367,7 @@ contains
     if (allocated(self%cell_nodes)) deallocate(self%cell_nodes)
     if (allocated(self%cell_region)) deallocate(self%cell_region)
     if (allocated(self%region_names)) deallocate(self%region_names)
+    if (allocated(self%cell_tag)) deallocate(self%cell_tag)
     if (allocated(self%sface_nodes)) deallocate(self%sface_nodes)
     if (allocated(self%sface_set)) deallocate(self%sface_set)
     if (allocated(self%set_names)) deallocate(self%set_names)

@@ -8,7 +8,9 @@
 !>    at t_end.
 !>
 !> The driver may cut a nominal step into smaller sub-steps; the schedule
-!> only says where each nominal step must end.
+!> only says where each nominal step must end. The run is bounded by &time
+!> max_steps (checked at read time where the count is known; beyond_limit
+!> tells the driver when a run goes past it anyway).
 module step_schedule
   use kinds, only: rp
   use run_config, only: run_config_t
@@ -23,6 +25,7 @@ module step_schedule
   type :: step_schedule_t
     logical :: transient = .false.
     integer :: n_steps = 1                    !< load steps
+    integer :: max_steps = huge(1)            !< the most steps of the run
     logical :: initial_step = .false.         !< transient: a step of size 0 at t = 0 first
     real(rp) :: dt = 0.0_rp, t_end = 0.0_rp, dt_growth = 1.0_rp, dt_max = huge(1.0_rp)
     real(rp), allocatable :: times(:)
@@ -32,6 +35,7 @@ module step_schedule
     procedure :: next
     procedure :: is_last
     procedure :: known_steps
+    procedure :: beyond_limit
   end type step_schedule_t
 
 contains
@@ -43,6 +47,7 @@ contains
     logical, intent(in) :: transient
     self%transient = transient
     self%n_steps = run%n_steps
+    self%max_steps = run%max_steps
     self%initial_step = transient .and. run%undrained
     self%dt = run%dt
     self%t_end = run%t_end
@@ -77,7 +82,13 @@ contains
       if (allocated(self%times)) then
         dt = self%times(min(step, size(self%times))) - t
       else
-        dt = min(self%dt * self%dt_growth**(step - 1), self%dt_max, self%t_end - t)
+        ! the growing size only where it can be the smallest: far beyond the
+        ! others its power could overflow (the minimum is the same either way)
+        dt = min(self%dt_max, self%t_end - t)
+        if (dt > 0.0_rp) then
+          if (log(self%dt) + real(step - 1, rp) * log(self%dt_growth) < log(dt) + 1.0_rp) &
+            dt = min(self%dt * self%dt_growth**(step - 1), self%dt_max, self%t_end - t)
+        end if
       end if
       t_target = t + dt
     end if
@@ -94,6 +105,14 @@ contains
       is_last = step == self%n_steps
     end if
   end function is_last
+
+  !> Step `step` would go beyond &time max_steps (the first step is 1; an
+  !> initial step 0 does not count).
+  logical function beyond_limit(self, step)
+    class(step_schedule_t), intent(in) :: self
+    integer, intent(in) :: step
+    beyond_limit = step > self%max_steps
+  end function beyond_limit
 
   !> The number of steps when known in advance (load steps), else 0.
   integer function known_steps(self)

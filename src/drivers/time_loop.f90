@@ -11,7 +11,8 @@
 !> line that says how to resume. &run restart starts the loop at the step
 !> after a checkpoint's, from its state.
 module time_loop
-  use kinds, only: rp, msg_len, path_len
+  use kinds, only: rp, gp, msg_len, path_len
+  use machine_memory, only: total_memory_bytes
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
   use status_sync, only: agree
@@ -74,6 +75,8 @@ contains
     do
       stats = step_stats_t(step=step, n_steps=rs%schedule%known_steps())
       if (.not. rs%schedule%next(step, rs%t, stats%t, stats%dt)) exit
+      if (rs%schedule%beyond_limit(step)) call log%fatal(comm, 'step '//itoa(step)//' (t = '//trim(rtoa(rs%t))// &
+        '): the run would take more than &time max_steps = '//itoa(run%max_steps)//' steps (raise max_steps)')
       call advance(comm, log, sim, rs, stats)
       call sim%report_step(stats, line)
       call log%info(line)
@@ -172,7 +175,13 @@ contains
     type(error_status_t), intent(inout) :: status
     type(probe_config_t), allocatable, intent(out), optional :: probes(:)   !< &probe groups
     type(probe_config_t), allocatable :: pcfg(:)
+    integer(gp) :: mem_total
     call mcfg%read(d, log, status)
+    ! the machine's memory as rank 0 sees it, so that every rank decides alike
+    mem_total = -1
+    if (comm%is_root()) mem_total = total_memory_bytes()
+    call comm%bcast(mem_total)
+    call mcfg%check_size(d, run%physics, mem_total, status)
     sim%comm = comm
     if (status%ok()) call sim%read_deck(d, mcfg, log, status)
     if (status%ok()) call sim%check_foreign(d, status)

@@ -12,7 +12,7 @@ module parameters_file
   use error_status, only: error_status_t
   use status_sync, only: agree
   use logger, only: logger_t
-  use param_group, only: param_group_t, param_line_len
+  use param_group, only: param_group_t, param_line_len, push_line
   implicit none
   private
 
@@ -25,11 +25,19 @@ contains
     type(param_group_t), intent(in) :: groups(:)
     character(len=*), intent(in) :: header(:)
     character(len=param_line_len), allocatable :: text(:)
-    integer :: g
+    character(len=param_line_len), allocatable :: part(:)
+    integer :: g, j
+    ! no array constructors: gfortran 12's checked build mistakes their lengths
     allocate(text(0))
-    text = [text, [character(len=param_line_len) :: ('! '//trim(header(g)), g = 1, size(header))]]
+    do g = 1, size(header)
+      call push_line(text, '! '//trim(header(g)))
+    end do
     do g = 1, size(groups)
-      text = [text, [character(len=param_line_len) :: ''], groups(g)%lines()]
+      call push_line(text, '')
+      part = groups(g)%lines()
+      do j = 1, size(part)
+        call push_line(text, part(j))
+      end do
     end do
   end function deck_text
 
