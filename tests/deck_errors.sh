@@ -10,9 +10,16 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_
 exe=${GEOBLOCK:-bin/geoblock}   # GEOBLOCK=bin/geoblock-debug runs the suite on the checked build
 pass=0; fail=0
 errf=$(mktemp)
-trap 'rm -f "$errf"' EXIT
+stamp=$(mktemp)
+trap 'rm -f "$errf" "$stamp"' EXIT
+# files a case wrote in the source tree outside build/test-out (its output
+# directory there) and .git: there must be none
+stray() {
+  find . \( -path ./build/test-out -o -path ./out -o -path ./.git \) -prune -o -type f -newer "$stamp" -print | head -3
+}
 check() {  # name, ranks, deck (or arguments), expected text
-  local name=$1 np=$2 deck=$3 expect=$4 out rc nerr
+  local name=$1 np=$2 deck=$3 expect=$4 out rc nerr strays
+  touch "$stamp"
   # shellcheck disable=SC2086
   out=$(timeout 120 mpirun --oversubscribe -np "$np" "$exe" $deck 2> "$errf" < /dev/null)
   rc=$?
@@ -36,6 +43,10 @@ check() {  # name, ranks, deck (or arguments), expected text
   if grep -qiE 'backtrace|#0 |SIGSEGV|Floating-point exception|^STOP|^ERROR STOP|^Note: ' <<< "$out"; then
     echo "  FAIL  $name: a backtrace or signal in the output"; fail=$((fail + 1)); return
   fi
+  strays=$(stray)
+  if [ -n "$strays" ]; then
+    echo "  FAIL  $name: wrote outside its output directory: $(echo "$strays" | tr '\n' ' ')"; fail=$((fail + 1)); return
+  fi
   echo "  ok    $name ($np ranks): $(grep -m1 -F -- "$expect" <<< "$out" | cut -c1-150)"
   pass=$((pass + 1))
 }
@@ -52,6 +63,21 @@ check two_decks 2 "tests/decks/good_base.nml tests/decks/good_base.nml" "more th
 check long_argument 1 "$(printf 'd%.0s' $(seq 600))" "argument 1 is longer than 512 characters"
 check deck_is_directory 2 tests/decks "cannot read deck 'tests/decks': it is a directory"
 check check_bad_deck 2 "--check tests/decks/bad_nan_value.nml" "variable young: 'nan' is not a finite number"
+# a full disk: a 200 kB tmpfs, where this machine lets us mount one
+full=$(mktemp -d)
+if mount -t tmpfs -o size=200k tmpfs "$full" 2> /dev/null; then
+  mkdir -p build/test-out/deck_errors
+  sed -e "s#nx = 2, ny = 2, nz = 2#nx = 20, ny = 20, nz = 20#" -e "s#dir = 'build/test-out'#dir = '$full/out'#" \
+      -e "s#fields = .false.#fields = .true.#" tests/decks/good_base.nml > build/test-out/deck_errors/disk_full.nml
+  for np in 1 2; do
+    rm -rf "$full/out"
+    check disk_full "$np" build/test-out/deck_errors/disk_full.nml "(is the disk full, or the file system read-only?)"
+  done
+  umount "$full"
+else
+  echo "  skip  disk_full: no tmpfs can be mounted here"
+fi
+rmdir "$full"
 # --check reads a good deck, echoes it and runs nothing
 if out=$(timeout 120 mpirun --oversubscribe -np 2 "$exe" --check tests/decks/good_base.nml 2>&1 < /dev/null) && \
    grep -q "is valid (physics elasticity); nothing was run" <<< "$out"; then

@@ -22,10 +22,51 @@ contains
   function rtoa(x) result(s)
     real(rp), intent(in) :: x
     character(len=:), allocatable :: s
-    character(len=32) :: t
-    write(t, '(g0.6)') x
-    s = trim(adjustl(t))
+    character(len=40) :: t
+    integer :: p, e
+    if (x /= x) then
+      s = 'NaN'
+      return
+    else if (abs(x) > huge(x)) then
+      s = merge('-Infinity', ' Infinity', x < 0.0_rp)
+      s = trim(adjustl(s))
+      return
+    else if (x == 0.0_rp) then
+      s = '0'
+      return
+    end if
+    ! six significant digits, trailing zeros dropped: 0.5, 2500, -1.0e+09
+    write(t, '(es14.5e3)') x
+    p = index(t, 'E')
+    read(t(p+1:), *) e
+    if (e >= -4 .and. e < 6) then
+      write(t, '(f0.'//itoa(5 - e)//')') x
+      s = trim_zeros(trim(adjustl(t)))
+      if (s(1:1) == '.') s = '0'//s
+      if (s(1:2) == '-.') s = '-0'//s(2:)
+    else
+      s = trim_zeros(trim(adjustl(t(1:p-1))))
+      if (index(s, '.') == 0) s = s//'.0'
+      write(t, '(a,sp,i0.2)') 'e', e
+      s = s//trim(adjustl(t))
+    end if
   end function rtoa
+
+  !> Decimal text without the zeros that end its fraction ('2.50' -> '2.5',
+  !> '3.000' -> '3').
+  function trim_zeros(t) result(s)
+    character(len=*), intent(in) :: t
+    character(len=:), allocatable :: s
+    integer :: n
+    s = t
+    if (index(s, '.') == 0) return
+    n = len(s)
+    do while (n > 1 .and. s(n:n) == '0')
+      n = n - 1
+    end do
+    if (s(n:n) == '.') n = n - 1
+    s = s(1:n)
+  end function trim_zeros
 
   !> A real as the shortest text that reads back as the very same double
   !> (bit for bit), in a form a person reads at a glance: plain decimals for

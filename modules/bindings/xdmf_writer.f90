@@ -53,7 +53,7 @@ module xdmf_writer
                   h5pset_dxpl_mpio_f, H5FD_MPIO_COLLECTIVE_F, h5screate_simple_f, &
                   h5screate_f, H5S_SCALAR_F, h5sclose_f, h5sselect_hyperslab_f, &
                   h5sselect_none_f, H5S_SELECT_SET_F, h5dcreate_f, h5dclose_f, &
-                  h5dwrite_f, h5acreate_f, h5awrite_f, h5aclose_f, h5gcreate_f, &
+                  h5dwrite_f, h5eset_auto_f, h5acreate_f, h5awrite_f, h5aclose_f, h5gcreate_f, &
                   h5gclose_f, h5kind_to_type, H5_REAL_KIND, H5_INTEGER_KIND, &
                   H5T_IEEE_F64LE, H5T_STD_I32LE, H5T_STD_I64LE
   use kinds, only: rp, ip, gp, name_len, path_len, msg_len
@@ -183,6 +183,9 @@ contains
 
     call h5open_f(err)
     if (err /= 0) call status%set('xdmf_writer: cannot initialise HDF5')
+    ! HDF5's own error stack is not printed: every failure becomes one
+    ! message of ours naming the file
+    if (err == 0) call h5eset_auto_f(0, err)
     call self%agree(status, 'HDF5 initialisation')
     if (.not. status%ok()) return
 
@@ -268,20 +271,26 @@ contains
         if (err /= 0) call status%set('xdmf_writer: cannot create group /'//trim(g%group)// &
                                       ' in '//trim(mesh_file))
       end if
+      ! every call below is collective: a rank that failed (e.g. a full disk
+      ! seen by one rank only) must not leave the others inside the next one
+      call self%agree(status, 'writing grid "'//trim(name)//'" to '//trim(mesh_file))
       if (status%ok()) then
         call write_block(loc_id, 'coords', 3, n_nodes_global, node_first, g%n_nodes, &
                          h5kind_to_type(rp, H5_REAL_KIND), H5T_IEEE_F64LE, ptr_r2(coords), &
                          mesh_file, status)
+        call self%agree(status, 'writing grid "'//trim(name)//'" to '//trim(mesh_file))
       end if
       if (status%ok()) then
         call write_block(loc_id, 'connectivity', g%nodes_per_cell, n_cells_global, cell_first, &
                          g%n_cells, h5kind_to_type(gp, H5_INTEGER_KIND), conn_type, &
                          ptr_g2(conn0), mesh_file, status)
+        call self%agree(status, 'writing grid "'//trim(name)//'" to '//trim(mesh_file))
       end if
       if (status%ok()) call write_attr_g(loc_id, 'n_nodes', n_nodes_global, mesh_file, status)
       if (status%ok()) call write_attr_g(loc_id, 'n_cells', n_cells_global, mesh_file, status)
       if (status%ok()) call write_attr_g(loc_id, 'nodes_per_cell', int(g%nodes_per_cell, gp), &
                                          mesh_file, status)
+      call self%agree(status, 'writing grid "'//trim(name)//'" to '//trim(mesh_file))
       if (loc_id /= file_id) call h5gclose_f(loc_id, err)
       call h5fclose_f(file_id, err)
       if (err /= 0 .and. status%ok()) call status%set('xdmf_writer: cannot close '//trim(mesh_file))
@@ -717,9 +726,12 @@ contains
     class(xdmf_writer_t), intent(in) :: self
     type(error_status_t), intent(inout) :: status
     character(len=*), intent(in) :: what
-    if (self%comm%any_true(.not. status%ok())) then
-      if (status%ok()) call status%set('xdmf_writer: '//what//' failed on another rank')
-    end if
+    type(error_status_t) :: mine
+    ! every rank gets the first failing rank's own message (e.g. its write
+    ! error), with what was being done
+    mine = status
+    call agree_all(self%comm, status)
+    if (.not. status%ok() .and. mine%ok()) status%msg = trim(status%msg)//' ('//what//', on another rank)'
   end subroutine agree
 
   !> Create (truncating) or open read-write an HDF5 file for MPI-IO on self%comm.
@@ -1058,7 +1070,8 @@ contains
       call h5dwrite_f(dset, mem_type, p, err, mem_space_id=mspace, file_space_id=fspace, &
                       xfer_prp=xfer)
     end block steps
-    if (err /= 0) call status%set('xdmf_writer: cannot write dataset '//name//' to '//trim(file))
+    if (err /= 0) call status%set('xdmf_writer: cannot write dataset '//name//' to '//trim(file)// &
+                                  ' (is the disk full, or the file system read-only?)')
     if (xfer >= 0) call h5pclose_f(xfer, err2)
     if (mspace >= 0) call h5sclose_f(mspace, err2)
     if (dset >= 0) call h5dclose_f(dset, err2)
