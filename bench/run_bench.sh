@@ -26,7 +26,7 @@ for n in $sizes; do
       deck=$out/cube_${n}_${s}_np${np}.nml
       case $s in
         amg)   solver="method = 'cg', precon = 'boomeramg', rtol = 1.0e-8" ;;
-        mumps) solver="method = 'mumps'" ;;
+        mumps) solver="method = 'mumps', mumps_layout = 'distributed'" ;;
       esac
       cat > "$deck" <<DECK
 &run

@@ -37,7 +37,7 @@ for n in $sizes; do
           implicit) solver="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true." ;;
           explicit_amg) solver="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true., decoupling = 'explicit'" ;;
           explicit_afsai) solver="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true., decoupling = 'explicit', k_precon = 'afsai', flux_precon = 'afsai', schur_precon = 'afsai', restart = 300, max_iter = 5000" ;;
-          mumps)  solver="method = 'mumps'" ;;
+          mumps)  solver="method = 'mumps', mumps_layout = 'distributed'" ;;
         esac
         sed -e "s#nx = 20, ny = 20, nz = 1#nx = $n, ny = $n, nz = $nz#" \
             -e "s#upper = 1.0, 1.0, 0.05#upper = 1.0, 1.0, $(echo "scale=6; $nz / $n" | bc)#" \

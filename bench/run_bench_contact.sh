@@ -46,7 +46,7 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
     open)  press=", pressure = 9.0e6" ;;
   esac
   case $s in
-    mumps)     solver="method = 'mumps'"; contact="" ;;
+    mumps)     solver="method = 'mumps', mumps_layout = 'distributed'"; contact="" ;;
     augmented) solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="block = 'augmented', stabilization = 'none', max_cuts = 0" ;;
     reordered_strong_amg)
