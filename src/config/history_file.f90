@@ -8,6 +8,7 @@ module history_file
   use kinds, only: rp, msg_len
   use parallel_comm, only: parallel_comm_t
   use os_services, only: path_kind, path_directory
+  use number_text, only: real_token_problem
   implicit none
   private
 
@@ -52,6 +53,7 @@ contains
     integer :: u, ios, line
     real(rp) :: row(2), extra(3)
     character(len=1024) :: buf
+    character(len=:), allocatable :: why
     n = -1
     msg = ''
     if (path_kind(path) == path_directory) then
@@ -69,8 +71,15 @@ contains
       line = line + 1
       buf = adjustl(buf)
       if (len_trim(buf) == 0 .or. buf(1:1) == '#') cycle
+      ! the values are checked as text first: nan, inf or 1e400 must not
+      ! reach the conversion (the checked build traps it)
+      why = row_problem(buf)
+      if (why == 'not finite') then
+        write(msg, '(a,i0,a)') 'line ', line, ': a value is not a finite number'
+        exit
+      end if
       read(buf, *, iostat=ios) row
-      if (ios /= 0) then
+      if (ios /= 0 .or. why == 'not a number') then
         write(msg, '(a,i0,a)') 'line ', line, ': expected two numbers "time factor"'
       else
         read(buf, *, iostat=ios) extra
@@ -96,6 +105,42 @@ contains
     if (len_trim(msg) == 0 .and. n == 0) msg = 'no rows'
     if (len_trim(msg) > 0) n = -1
   end subroutine read_rows
+
+  !> 'not finite' when one of the first two blank- or comma-separated words
+  !> of a row is nan, inf or beyond the doubles; 'not a number' when one is
+  !> no number (or missing); '' otherwise.
+  function row_problem(buf) result(why)
+    character(len=*), intent(in) :: buf
+    character(len=:), allocatable :: why
+    character(len=*), parameter :: seps = ' ,'//achar(9)
+    character(len=:), allocatable :: problem
+    integer :: k, i, j
+    why = ''
+    i = 1
+    do k = 1, 2
+      do while (i <= len_trim(buf))
+        if (index(seps, buf(i:i)) == 0) exit
+        i = i + 1
+      end do
+      if (i > len_trim(buf)) then
+        why = 'not a number'
+        return
+      end if
+      j = i
+      do while (j <= len_trim(buf))
+        if (index(seps, buf(j:j)) > 0) exit
+        j = j + 1
+      end do
+      problem = real_token_problem(buf(i:j-1))
+      if (index(problem, 'finite') > 0 .or. index(problem, 'range') > 0) then
+        why = 'not finite'
+        return
+      else if (len(problem) > 0) then
+        why = 'not a number'
+      end if
+      i = j
+    end do
+  end function row_problem
 
   !> The factor of the history (hist_t, hist_f) at time t: linear between the
   !> rows, the first / last value before / after them.
