@@ -9,15 +9,17 @@ cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 exe=${GEOBLOCK:-bin/geoblock}   # GEOBLOCK=bin/geoblock-debug runs the suite on the checked build
 pass=0; fail=0
-errf=$(mktemp)
-stamp=$(mktemp)
-trap 'rm -f "$errf" "$stamp"' EXIT
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+n_case=0
 # files a case wrote in the source tree outside build/test-out (its output
 # directory there) and .git: there must be none
 stray() {
   find . \( -path ./build/test-out -o -path ./out -o -path ./.git \) -prune -o -type f -newer "$stamp" -print | head -3
 }
-check() {  # name, ranks, deck (or arguments), expected text
+# one_case name, ranks, deck (or arguments), expected text: prints "  ok ..."
+# or "  FAIL ..." (files $errf and $stamp of its own)
+one_case() {
   local name=$1 np=$2 deck=$3 expect=$4 out rc nerr strays
   touch "$stamp"
   # shellcheck disable=SC2086
@@ -25,30 +27,46 @@ check() {  # name, ranks, deck (or arguments), expected text
   rc=$?
   out="$out"$'\n'"$(cat "$errf")"
   if [ "$rc" -eq 124 ]; then
-    echo "  FAIL  $name: hung (timeout)"; fail=$((fail + 1)); return
+    echo "  FAIL  $name: hung (timeout)"; return 1
   fi
   if [ "$rc" -ne 2 ]; then
     echo "  FAIL  $name: exit status $rc, not 2"; echo "$out" | head -5 | sed 's/^/        /'
-    fail=$((fail + 1)); return
+    return 1
   fi
   nerr=$(grep -c '^geoblock: error: ' "$errf")
   if [ "$nerr" -ne 1 ]; then
     echo "  FAIL  $name: $nerr 'geoblock: error:' lines on stderr, not one"; echo "$out" | head -5 | sed 's/^/        /'
-    fail=$((fail + 1)); return
+    return 1
   fi
   if ! grep -qF -- "$expect" <<< "$out"; then
     echo "  FAIL  $name: message lacks \"$expect\""; echo "$out" | head -5 | sed 's/^/        /'
-    fail=$((fail + 1)); return
+    return 1
   fi
   if grep -qiE 'backtrace|#0 |SIGSEGV|Floating-point exception|^STOP|^ERROR STOP|^Note: ' <<< "$out"; then
-    echo "  FAIL  $name: a backtrace or signal in the output"; fail=$((fail + 1)); return
+    echo "  FAIL  $name: a backtrace or signal in the output"; return 1
   fi
   strays=$(stray)
   if [ -n "$strays" ]; then
-    echo "  FAIL  $name: wrote outside its output directory: $(echo "$strays" | tr '\n' ' ')"; fail=$((fail + 1)); return
+    echo "  FAIL  $name: wrote outside its output directory: $(echo "$strays" | tr '\n' ' ')"; return 1
   fi
   echo "  ok    $name ($np ranks): $(grep -m1 -F -- "$expect" <<< "$out" | cut -c1-150)"
-  pass=$((pass + 1))
+}
+# check: the same, in the background, two cases at a time (most of a case
+# is mpirun's start-up); collect waits for them and counts, in order
+check() {
+  n_case=$((n_case + 1))
+  ( errf=$work/$n_case.err stamp=$work/$n_case.stamp one_case "$@" > "$work/$n_case.out" 2>&1 ) &
+  while [ "$(jobs -rp | wc -l)" -ge 2 ]; do wait -n; done
+}
+collected=0
+collect() {
+  local i
+  wait
+  for ((i = collected + 1; i <= n_case; i++)); do
+    cat "$work/$i.out"
+    if grep -q '^  ok' "$work/$i.out"; then pass=$((pass + 1)); else fail=$((fail + 1)); fi
+  done
+  collected=$n_case
 }
 for deck in tests/decks/bad_*.nml; do
   expect=$(head -n 1 "$deck" | sed -E 's/^! expect: //')
@@ -63,6 +81,7 @@ check two_decks 2 "tests/decks/good_base.nml tests/decks/good_base.nml" "more th
 check long_argument 1 "$(printf 'd%.0s' $(seq 600))" "argument 1 is longer than 512 characters"
 check deck_is_directory 2 tests/decks "cannot read deck 'tests/decks': it is a directory"
 check check_bad_deck 2 "--check tests/decks/bad_nan_value.nml" "variable young: 'nan' is not a finite number"
+collect
 # a full disk: a 200 kB tmpfs, where this machine lets us mount one
 full=$(mktemp -d)
 if mount -t tmpfs -o size=200k tmpfs "$full" 2> /dev/null; then
@@ -72,6 +91,7 @@ if mount -t tmpfs -o size=200k tmpfs "$full" 2> /dev/null; then
   for np in 1 2; do
     rm -rf "$full/out"
     check disk_full "$np" build/test-out/deck_errors/disk_full.nml "(is the disk full, or the file system read-only?)"
+    collect
   done
   umount "$full"
 else
