@@ -6,6 +6,7 @@
 !> known to be a finite double.
 module number_text
   use kinds, only: rp
+  use strings, only: lower
   implicit none
   private
 
@@ -101,14 +102,4 @@ contains
       if (ios /= 0) why = 'is not a number'
     end if
   end function real_token_problem
-
-  pure function lower(s) result(t)
-    character(len=*), intent(in) :: s
-    character(len=len(s)) :: t
-    integer :: i
-    t = s
-    do i = 1, len(s)
-      if (s(i:i) >= 'A' .and. s(i:i) <= 'Z') t(i:i) = achar(iachar(s(i:i)) + 32)
-    end do
-  end function lower
 end module number_text

@@ -5,7 +5,7 @@ module strings
   implicit none
   private
 
-  public :: itoa, rtoa, real_text, logical_text, quoted
+  public :: itoa, lower, rtoa, real_text, logical_text, quoted
 
 contains
 
@@ -161,4 +161,15 @@ contains
     end do
     q = q//"'"
   end function quoted
+
+  !> s with the letters A-Z in lower case.
+  pure function lower(s) result(t)
+    character(len=*), intent(in) :: s
+    character(len=len(s)) :: t
+    integer :: i
+    t = s
+    do i = 1, len(s)
+      if (s(i:i) >= 'A' .and. s(i:i) <= 'Z') t(i:i) = achar(iachar(s(i:i)) + 32)
+    end do
+  end function lower
 end module strings

@@ -17,17 +17,15 @@ module deck
   use kinds, only: ip, rp, path_len, msg_len, name_len
   use parallel_comm, only: parallel_comm_t
   use os_services, only: path_kind, path_directory
-  use strings, only: itoa
+  use strings, only: itoa, lower
   use error_status, only: error_status_t
-  use logger, only: logger_t
   use number_text, only: non_finite_word, numeric_literal, beyond_double
   implicit none
   private
 
-  public :: deck_t, line_len, echo_len, unset_real, unset_int, is_set
+  public :: deck_t, line_len, unset_real, unset_int, is_set
 
   integer, parameter :: line_len = 256
-  integer, parameter :: echo_len = 1024    !< records of a namelist written for the log
   character(len=*), parameter :: name_chars = 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_'
   !> Sentinels for values the deck did not set.
   real(rp), parameter :: unset_real = -huge(1.0_rp)
@@ -47,7 +45,6 @@ module deck
     procedure :: check_groups
     procedure :: read_error
     procedure :: fail
-    procedure :: echo
     procedure :: assigned
     procedure :: input_path
   end type deck_t
@@ -370,16 +367,6 @@ contains
     end if
   end subroutine split_groups
 
-  pure function lower(s) result(t)
-    character(len=*), intent(in) :: s
-    character(len=len(s)) :: t
-    integer :: i
-    t = s
-    do i = 1, len(s)
-      if (s(i:i) >= 'A' .and. s(i:i) <= 'Z') t(i:i) = achar(iachar(s(i:i)) + 32)
-    end do
-  end function lower
-
   !> Number of occurrences of group name.
   integer function count_groups(self, name)
     class(deck_t), intent(in) :: self
@@ -652,15 +639,4 @@ contains
       return
     end do
   end function assigned
-
-  !> Write lines (e.g. a namelist written to an internal file) to the log.
-  subroutine echo(self, log, lines)
-    class(deck_t), intent(in) :: self
-    type(logger_t), intent(inout) :: log
-    character(len=*), intent(in) :: lines(:)
-    integer :: i
-    do i = 1, size(lines)
-      if (len_trim(lines(i)) > 0) call log%detail('  '//trim(lines(i)))
-    end do
-  end subroutine echo
 end module deck
