@@ -13,11 +13,14 @@ projections of the element centres on the mean in-plane direction m1 (the
 the fault extruded along z every column of elements gives the same curve.
 With --case, the relative L2 errors over the middle 80 % of the fracture
 (|s| <= 0.8 b) are printed as 'error <quantity> <value>' lines, and --check
-TOL makes the exit status nonzero when one exceeds TOL. Young's modulus and
-Poisson's ratio (first &material) and, for sneddon, the pressure (first
-&fault) are read from the run's <run>_parameters.nml; an option given on the
-command line wins. The other analytical parameters default to those of
-input/sneddon.nml and input/single_fracture.nml.
+TOL makes the exit status nonzero when one exceeds TOL. Every analytical
+parameter comes from the run itself unless given on the command line:
+Young's modulus and Poisson's ratio from the first &material of the run's
+<run>_parameters.nml; for sneddon the pressure of the first &fault; for phan
+the friction angle of the first &fault, the compression sigma as the
+magnitude of the first 'traction' &boundary and psi as the angle between its
+direction and the fracture's tangent. The half-length b is measured on the
+output: the element centres span 2b less one element.
 Needs numpy, h5py and (for the figure) matplotlib.
 """
 import argparse
@@ -37,7 +40,40 @@ def fracture_fields(run, step):
     d = m1.mean(axis=0)
     d /= np.linalg.norm(d)
     s = (centre - centre.mean(axis=0)) @ d
-    return s, f("opening"), f("slip_magnitude"), f("normal_traction"), f("shear_traction_magnitude"), f("status")
+    return s, d, f("opening"), f("slip_magnitude"), f("normal_traction"), f("shear_traction_magnitude"), f("status")
+
+
+def half_length(s):
+    """b from the element centres: n distinct positions over 2b, one element apart."""
+    pos = np.unique(np.round(s, 9))
+    if len(pos) < 2:
+        raise SystemExit("plot_fracture.py: error: the fracture has a single column of elements; give --half-length")
+    return 0.5 * (pos[-1] - pos[0]) * len(pos) / (len(pos) - 1)
+
+
+def run_parameters(run, args, tangent):
+    """Fill the analytical parameters not given on the command line from the run."""
+    par = run.parameters()
+    mat = par["material"][0]
+    fault = par["fault"][0] if "fault" in par else {}
+    if args.young is None:
+        args.young = float(mat["young"])
+    if args.poisson is None:
+        args.poisson = float(mat["poisson"])
+    if args.pressure is None:
+        args.pressure = float(fault.get("pressure", 0.0))
+    if args.friction is None:
+        args.friction = float(fault.get("friction_angle", 0.0))
+    if args.case == "phan" and (args.sigma is None or args.psi is None):
+        loads = [b for b in par.get("boundary", []) if b.get("type") == "traction"]
+        if not loads:
+            raise SystemExit("plot_fracture.py: error: the run has no 'traction' &boundary; give --sigma and --psi")
+        t = np.asarray(loads[0]["traction"], dtype=float)
+        if args.sigma is None:
+            args.sigma = float(np.linalg.norm(t))
+        if args.psi is None:
+            c = abs(float(t @ tangent)) / np.linalg.norm(t)
+            args.psi = float(np.degrees(np.arccos(min(c, 1.0))))
 
 
 def main():
@@ -45,26 +81,23 @@ def main():
     ap.add_argument("run", help="output directory/prefix, e.g. out/sneddon")
     ap.add_argument("--case", choices=["sneddon", "phan"], help="analytical reference")
     ap.add_argument("--step", type=int, default=-1)
-    ap.add_argument("--half-length", type=float, default=1.0, help="b [m]")
+    ap.add_argument("--half-length", type=float, help="b [m] (default: measured on the run)")
     ap.add_argument("--young", type=float, help="E [Pa] (default: the run's)")
     ap.add_argument("--poisson", type=float, help="nu (default: the run's)")
     ap.add_argument("--pressure", type=float, help="sneddon: p [Pa] (default: the run's first fault)")
-    ap.add_argument("--sigma", type=float, default=1.0e7, help="phan: compression [Pa]")
-    ap.add_argument("--psi", type=float, default=20.0, help="phan: crack to load angle [deg]")
-    ap.add_argument("--friction", type=float, default=30.0, help="phan: friction angle [deg]")
+    ap.add_argument("--sigma", type=float, help="phan: compression [Pa] (default: the run's traction)")
+    ap.add_argument("--psi", type=float, help="phan: crack to load angle [deg] (default: the run's)")
+    ap.add_argument("--friction", type=float, help="phan: friction angle [deg] (default: the run's first fault)")
     ap.add_argument("--check", type=float, help="fail if an error exceeds this")
     ap.add_argument("--png", help="figure file (default <run>_fracture.png)")
     args = ap.parse_args()
 
     run = Run(os.path.dirname(args.run) or ".", os.path.basename(args.run))
-    if args.case and None in (args.young, args.poisson, args.pressure):
-        par = run.parameters()
-        mat = par["material"][0]
-        args.young = float(mat["young"]) if args.young is None else args.young
-        args.poisson = float(mat["poisson"]) if args.poisson is None else args.poisson
-        if args.pressure is None:
-            args.pressure = float(par["fault"][0]["pressure"]) if "fault" in par else 0.0
-    s, opening, slip, tn, tt, status = fracture_fields(run, args.step)
+    s, d, opening, slip, tn, tt, status = fracture_fields(run, args.step)
+    if args.half_length is None:
+        args.half_length = half_length(s)
+    if args.case:
+        run_parameters(run, args, d)
     order = np.argsort(s)
     b = args.half_length
     mid = np.abs(s) <= 0.8 * b
