@@ -29,25 +29,40 @@ Sources
 import numpy as np
 
 
-def sneddon_opening(x, b, p, young, poisson):
-    """Opening g_N [m] at distance x [m] from the centre of a plane strain
-    crack of half-length b under internal pressure p [Pa]."""
+def ellipse(x, b, width=None):
+    """sqrt(b^2 - x^2) (0 beyond |x| = b); with width, its mean over
+    [x - width/2, x + width/2], the quantity a P0 element of that width holds
+    (exact integral: (x sqrt(b^2 - x^2) + b^2 asin(x / b)) / 2)."""
     x = np.asarray(x, dtype=float)
-    return 4.0 * (1.0 - poisson**2) * p / young * np.sqrt(np.maximum(b * b - x * x, 0.0))
+    if width is None:
+        return np.sqrt(np.maximum(b * b - x * x, 0.0))
+
+    def primitive(y):
+        y = np.clip(y, -b, b)
+        return 0.5 * (y * np.sqrt(np.maximum(b * b - y * y, 0.0)) + b * b * np.arcsin(y / b))
+    return (primitive(x + 0.5 * width) - primitive(x - 0.5 * width)) / width
 
 
-def inclined_crack(s, b, sigma, psi_deg, friction_angle_deg, young, poisson):
+def sneddon_opening(x, b, p, young, poisson, width=None):
+    """Opening g_N [m] at distance x [m] from the centre of a plane strain
+    crack of half-length b under internal pressure p [Pa] (with width: its
+    mean over an element of that width centred at x)."""
+    return 4.0 * (1.0 - poisson**2) * p / young * ellipse(x, b, width)
+
+
+def inclined_crack(s, b, sigma, psi_deg, friction_angle_deg, young, poisson, width=None):
     """Slip |g_T| [m], normal traction t_N [Pa] and tangential traction
     |t_T| [Pa] at distance s [m] from the centre of a closed crack of
     half-length b at psi degrees from a uniaxial compression sigma > 0 [Pa],
-    friction angle in degrees. Raises ValueError if the crack would not slip."""
+    friction angle in degrees (with width: the slip's mean over an element of
+    that width centred at s). Raises ValueError if the crack would not slip."""
     s = np.asarray(s, dtype=float)
     psi = np.radians(psi_deg)
     mu = np.tan(np.radians(friction_angle_deg))
     excess = sigma * np.sin(psi) * (np.cos(psi) - mu * np.sin(psi))
     if excess <= 0.0:
         raise ValueError("the crack sticks: cot(psi) <= tan(friction angle)")
-    slip = 4.0 * (1.0 - poisson**2) / young * excess * np.sqrt(np.maximum(b * b - s * s, 0.0))
+    slip = 4.0 * (1.0 - poisson**2) / young * excess * ellipse(s, b, width)
     tn = -sigma * np.sin(psi) ** 2 * np.ones_like(s)
     tt = mu * np.abs(tn)
     return slip, tn, tt
@@ -72,4 +87,10 @@ if __name__ == "__main__":
     excess = 1.0e7 * np.sin(np.radians(20)) * (np.cos(np.radians(20)) - np.tan(np.radians(30)) * np.sin(np.radians(20)))
     assert np.allclose(slip, sneddon_opening(x, 1.0, excess, 1.0e10, 0.25))
     assert abs(sneddon_opening(0.0, 1.0, 1.0e6, 1.0e10, 0.25) - 3.75e-4) < 1e-15
+    # element means: a quarter-ellipse over [0, b] has mean pi b / 4; a fine
+    # midpoint sum agrees; an element straddling the tip holds half its area
+    assert abs(ellipse(0.5, 1.0, 1.0) - np.pi / 4) < 1e-14
+    xs = 0.3 + (np.arange(20000) + 0.5) / 20000 * 0.2 - 0.1
+    assert abs(ellipse(0.3, 1.0, 0.2) - ellipse(xs, 1.0).mean()) < 1e-9
+    assert abs(ellipse(1.0, 1.0, 0.2) - ellipse(0.95, 1.0, 0.1) / 2) < 1e-14
     print("fracture_analytical: self-check passed")

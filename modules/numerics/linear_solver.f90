@@ -13,6 +13,11 @@
 !> sides near round-off, where rtol alone would ask for digits that do not
 !> exist; a linear problem (one solve per step) never reaches the floor.
 !>
+!> A direct solve factorizes the scaled matrix D A D too when a scaling is
+!> given: a saddle point whose blocks differ by twenty orders of magnitude
+!> (stiffness against stabilization, contact) otherwise loses pivots to the
+!> factorization's relative thresholds (MUMPS reported a stabilized stick
+!> system of 58,614 unknowns numerically singular on one process).
 !> A direct solve is checked: its true relative residual ||b - A x|| / ||b||
 !> must be at most max(rtol, 1e-10) (or below the floor), else the solve is
 !> reported as not converged.
@@ -172,7 +177,17 @@ contains
     info%iterations = 0
     if (sys%changed .or. .not. self%factored) call self%factorize(sys, status)
     t0 = wall_time()
-    if (status%ok()) call self%direct%solve(sys%b, sys%x, status)
+    if (status%ok()) then
+      if (associated(sys%d)) then
+        allocate(r(size(sys%b)))
+        r = sys%d * sys%b
+        call self%direct%solve(r, sys%x, status)
+        sys%x = sys%d * sys%x
+        deallocate(r)
+      else
+        call self%direct%solve(sys%b, sys%x, status)
+      end if
+    end if
     if (.not. status%ok()) then
       info%msg = status%msg
       info%rel_res = huge(1.0_rp)
@@ -208,10 +223,19 @@ contains
     self%factored = .false.
     select type (a => sys%a)
     type is (csr_matrix_t)
-      call self%direct%setup(a, status, sys%symmetric)
+      if (associated(sys%d)) then
+        call self%mono%free()
+        self%mono = a
+        self%mono%owned_col_map => null()        ! a's own, freed with a
+        call scale_matrix(self%mono, sys%d)
+        call self%direct%setup(self%mono, status, sys%symmetric)
+      else
+        call self%direct%setup(a, status, sys%symmetric)
+      end if
     type is (block_matrix_t)
       call self%mono%free()
       call a%monolithic(self%mono_map, self%mono)
+      if (associated(sys%d)) call scale_matrix(self%mono, sys%d)
       call self%direct%setup(self%mono, status, sys%symmetric)
     class default
       call status%set('linear solver: MUMPS needs an assembled matrix or block matrix')
@@ -220,6 +244,25 @@ contains
     if (self%factored) self%n_factor = self%n_factor + 1
     self%t_factor = wall_time() - t0
   end subroutine factorize
+
+  !> a = D a D for the owned scaling d (the ghost columns' from their owners).
+  !> Collective.
+  subroutine scale_matrix(a, d)
+    type(csr_matrix_t), intent(inout) :: a
+    real(rp), intent(in) :: d(:)
+    real(rp), allocatable :: dc(:)
+    integer(ip) :: i, k
+    if (a%col_map%n_owned /= a%n_rows) error stop 'linear_solver: a scaled direct solve needs a square matrix'
+    allocate(dc(a%col_map%n_local()))
+    dc = 0.0_rp
+    dc(1:a%n_rows) = d(1:a%n_rows)
+    call a%col_map%import(dc)
+    do i = 1, a%n_rows
+      do k = a%row_ptr(i), a%row_ptr(i + 1) - 1
+        a%val(k) = d(i) * a%val(k) * dc(a%col(k))
+      end do
+    end do
+  end subroutine scale_matrix
 
   !> Log the factors and memory of the factorization made by the last solve,
   !> if it made one (the first on the screen, later ones as details).

@@ -185,7 +185,11 @@ contains
     sys%a => self%phys%sys
     sys%b => self%phys%rhs
     sys%x => self%dx
-    if (direct) return
+    if (direct) then
+      call scaling(self)
+      sys%d => self%dsc
+      return
+    end if
     t0 = wall_time()
     call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status)
     call agree(self%comm, status)
@@ -231,7 +235,8 @@ contains
     end associate
   end subroutine check_pieces
 
-  !> Symmetric scaling 1/sqrt of the diagonal of K (u rows) and of H~ (t rows).
+  !> Symmetric scaling 1/sqrt of the diagonal of K (u rows) and of H~ (t rows),
+  !> for the Krylov and the direct solver alike.
   subroutine scaling(self)
     type(contact_simulation_t), intent(inout) :: self
     integer(ip) :: u0, u1, t0, t1

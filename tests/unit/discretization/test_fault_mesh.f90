@@ -32,7 +32,7 @@ program test_fault_mesh
   type(fault_config_t) :: flt(2)
   real(rp), parameter :: zero3(3) = 0.0_rp, one3(3) = 1.0_rp, pi = acos(-1.0_rp)
   integer(ip) :: e, k, n_split
-  real(rp) :: worst, slope
+  real(rp) :: worst, slope, e_len(2)
   logical :: ok
 
   call comm%init_world()
@@ -132,6 +132,12 @@ program test_fault_mesh
     call g%check(st)
     call suite%assert_true(st%ok(), 'cored fault: all Jacobians positive')
     call suite%assert_equal_int(iface_violations(g), 0, 'cored fault: interface elements consistent')
+    ! squared up around the fracture: the cell edges leaving it are perpendicular to it and, both
+    ! sides, as long as the core cells (0.05): mirror images (box_mesh square_up)
+    call crossing_edges(g, [sin(20.0_rp * pi / 180.0_rp), cos(20.0_rp * pi / 180.0_rp), 0.0_rp], worst, e_len)
+    call suite%assert_close(worst, 0.0_rp, 1.0e-12_rp, 'cored fault: the cells crossing it are perpendicular to it')
+    call suite%assert_close(e_len(1), 0.05_rp, 1.0e-12_rp, 'cored fault: crossing edges 0.05 long (shortest)')
+    call suite%assert_close(e_len(2), 0.05_rp, 1.0e-12_rp, 'cored fault: crossing edges 0.05 long (longest)')
   end if
 
   ! ---- two crossing vertical faults through the whole box --------------------------------------
@@ -161,6 +167,37 @@ program test_fault_mesh
 contains
 
   !> Box on [0, hi] with faults, then split them.
+  !> Over the edges of the interface elements' cells that leave the fault
+  !> (one end on the element's face): the largest |cos| of their angle with
+  !> the fault direction tang, and their shortest and longest length.
+  subroutine crossing_edges(g, tang, worst, len_range)
+    type(mesh_t), intent(in) :: g
+    real(rp), intent(in) :: tang(3)
+    real(rp), intent(out) :: worst, len_range(2)
+    integer, parameter :: edges(2, 12) = reshape([1, 2, 2, 3, 3, 4, 4, 1, 5, 6, 6, 7, 7, 8, 8, 5, &
+                                                  1, 5, 2, 6, 3, 7, 4, 8], [2, 12])
+    integer(ip) :: e, side, c, k, na, nb
+    real(rp) :: v(3)
+    logical :: ina, inb
+    worst = 0.0_rp
+    len_range = [huge(1.0_rp), 0.0_rp]
+    do e = 1, g%n_ifaces
+      do side = 1, 2
+        c = g%iface_cells(side, e)
+        do k = 1, 12
+          na = g%cell_nodes(edges(1, k), c)
+          nb = g%cell_nodes(edges(2, k), c)
+          ina = any(g%iface_nodes(:, side, e) == na)
+          inb = any(g%iface_nodes(:, side, e) == nb)
+          if (ina .eqv. inb) cycle
+          v = g%coords(:, nb) - g%coords(:, na)
+          worst = max(worst, abs(dot_product(v, tang)) / norm2(v))
+          len_range = [min(len_range(1), norm2(v)), max(len_range(2), norm2(v))]
+        end do
+      end do
+    end do
+  end subroutine crossing_edges
+
   subroutine box_with_faults(g, n, hi, faults, st, n_split)
     type(mesh_t), intent(inout) :: g
     integer(ip), intent(in) :: n(3)
