@@ -96,6 +96,7 @@ module contact
     procedure :: begin_step
     procedure :: count_states
     procedure :: ht_diagonal
+    procedure :: tip_skew
     procedure :: free
   end type contact_t
 
@@ -727,6 +728,42 @@ contains
     end do
     h = scale * h
   end subroutine ht_diagonal
+
+  !> Per fault (of faults(:)), the largest angle [degrees] between its
+  !> normal and the cell edges that leave its tip elements (elements with an
+  !> unsplit node), 0 for a fault without tips. Where the cells on the two
+  !> sides are not mirror images near a tip, Q1 couples slip to a normal
+  !> force that grows under refinement (README, contact verification).
+  !> Collective.
+  function tip_skew(self, mesh) result(worst)
+    class(contact_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp) :: worst(size(self%faults))
+    integer, parameter :: hex_edges(2, 12) = reshape([1, 2, 2, 3, 3, 4, 4, 1, 5, 6, 6, 7, 7, 8, 8, 5, &
+                                                      1, 5, 2, 6, 3, 7, 4, 8], [2, 12])
+    integer(ip) :: e, side, c, k, na, nb
+    real(rp) :: v(3), cosine
+    type(parallel_comm_t) :: comm
+    worst = 0.0_rp
+    do e = 1, mesh%iface_map%n_owned
+      if (all(mesh%iface_nodes(:, 1, e) /= mesh%iface_nodes(:, 2, e))) cycle
+      do side = 1, 2
+        c = mesh%iface_cells(side, e)
+        do k = 1, 12
+          na = mesh%cell_nodes(hex_edges(1, k), c)
+          nb = mesh%cell_nodes(hex_edges(2, k), c)
+          if (any(mesh%iface_nodes(:, side, e) == na) .eqv. any(mesh%iface_nodes(:, side, e) == nb)) cycle
+          v = mesh%coords(:, nb) - mesh%coords(:, na)
+          cosine = min(1.0_rp, abs(dot_product(v, self%rot(1, :, e))) / norm2(v))
+          worst(self%fault(e)) = max(worst(self%fault(e)), acos(cosine) / deg)
+        end do
+      end do
+    end do
+    comm = mesh%comm
+    do k = 1, size(worst)
+      worst(k) = comm%max(worst(k))
+    end do
+  end function tip_skew
 
   subroutine free(self)
     class(contact_t), intent(inout) :: self

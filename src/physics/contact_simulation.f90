@@ -128,6 +128,7 @@ contains
     call self%pieces%build(mesh)
     call check_pieces(self, status)
     if (.not. status%ok()) return
+    call warn_tip_skew(self, log)
     call log%info('unknowns: u '//itoa(int(self%phys%mech%u%map%n_global))//', t '// &
       itoa(int(self%phys%t%map%n_global))//' ('//itoa(int(mesh%iface_map%n_global))//' interface elements, '// &
       itoa(int(self%comm%sum(self%phys%n_edges)))//' stabilization edge entries)')
@@ -234,6 +235,23 @@ contains
       if (status%ok()) self%open_checked = n_open
     end associate
   end subroutine check_pieces
+
+  !> A warning per fault whose tip elements sit on cells skewed by more than
+  !> max_tip_skew degrees from its normal. Collective.
+  subroutine warn_tip_skew(self, log)
+    type(contact_simulation_t), intent(inout) :: self
+    type(logger_t), intent(inout) :: log
+    real(rp), parameter :: max_tip_skew = 5.0_rp
+    real(rp), allocatable :: skew(:)
+    integer :: f
+    skew = self%phys%tip_skew(self%mesh)
+    do f = 1, size(skew)
+      if (skew(f) > max_tip_skew) call log%warn("fault '"//trim(self%faults(f)%name)// &
+        "': the cells at its tips cross it at up to "//rtoa(real(nint(skew(f)), rp))//' degrees from its normal: '// &
+        'where it slips, its tip elements'' tractions are then wrong by a share that grows under refinement; '// &
+        'mesh the tip regions with cells perpendicular to the fault (README: contact verification)')
+    end do
+  end subroutine warn_tip_skew
 
   !> Symmetric scaling 1/sqrt of the diagonal of K (u rows) and of H~ (t rows),
   !> for the Krylov and the direct solver alike.

@@ -9,6 +9,7 @@
 #    other parameters (30, 60, 120 elements): every element's tractions within
 #    1 % at every level, all slipping, slip converging at order >= 0.8;
 #  - a straight slipping crack whose Jacobian MUMPS found singular unscaled;
+#  - a warning naming a fracture whose tips sit on sheared cells;
 #  - a fault in stick under a homogeneous stress: the intact solution exactly;
 #  - a partly slipping fracture with tips in a block: 1 vs 2 ranks to 1e-8
 #    with the fracture shared by both ranks; the three block preconditioners
@@ -95,6 +96,17 @@ done
 if [ ${#e[@]} -eq 3 ]; then
   check "inclined crack slip convergence, every element (order >= 0.8)" $PY tests/verification/check_contact.py \
     orders "${e[@]}" 0.8
+fi
+
+# skewed tips are named: a second fault normal to the dip axis keeps the
+# inclined crack's cells sheared (no squaring up), and the log says so
+deck skew input/single_fracture.nml
+printf "&fault\n  name = 'other'\n  normal_axis = 'y'\n  position = 15.0\n  lower = 10.0, 0.0, -1.0\n  upper = 15.0, 0.0, 1.0\n/\n" \
+  >> "$out/skew.nml"
+if run skew 2; then
+  grep -q "warning: fault 'crack': the cells at its tips cross it at up to 20 degrees" "$out/skew.stdout" && \
+    ! grep -q "cells at its tips" "$out/phan2.stdout" && ok "sheared cells at the tips are named (20 degrees), squared-up ones are not" \
+    || ko "tip skew warning: $(grep warning "$out/skew.stdout")"
 fi
 
 # a Jacobian MUMPS called numerically singular before the scaled factorization
