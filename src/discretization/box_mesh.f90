@@ -469,23 +469,26 @@ contains
   !> it: a node at generated distance s from the fault's layer goes to
   !> X_f + s nv, X_f the fault node of its column and nv the fault's unit
   !> normal, blended with its sheared position by the weight w(s) psi(u).
-  !> w is 1 within half the distance to the next layer that stays (box end
-  !> or another fault with the same normal axis) and falls linearly to 0 on
-  !> it; psi along dip_axis is 1 over the fault's extent widened by an eighth
-  !> of the box, at most up to an eighth of the box from its ends, and falls
-  !> linearly to 0 at the ends. So the box keeps its faces, the fault stays
-  !> planar (its own nodes do not move) and, around the fault and its tips,
-  !> the cells on either side are mirror images. Applied to faults with a tip
-  !> along dip_axis (lower or upper inside the box) only; where it would
-  !> invert a cell (a coarse box, a steep dip) the sheared cells are kept. Why: with the sheared cells
-  !> alone the two sides are translates, not mirror images, and Q1 couples
-  !> a slip to a normal force there; next to the tip of a slipping fracture
-  !> that coupling grows as the mesh is refined and the tip elements'
-  !> normal traction fell to 0.31, 0.09 and 0 of the exact value on 30, 60
-  !> and 120 elements of the inclined-crack benchmark (input/single_fracture.nml);
-  !> with this map the tip error is below 1 % at every level
-  !> (tests/verification/contact.sh). Skipped when another fault is normal
-  !> to dip_axis (its nodes would leave its plane).
+  !> w is 1 on the fault's layer and falls linearly (in the coordinate) to 0
+  !> on the next layer that stays (box end or another fault with the same
+  !> normal axis); psi along dip_axis is 1 over the fault's extent (at most
+  !> up to an eighth of the box from its ends) and falls linearly to 0 at the
+  !> ends. So the box keeps its faces, the fault stays planar (its own nodes
+  !> do not move) and, near the fault and its tips, the cells on either side
+  !> are mirror images up to second-order terms (w and psi differ from 1 by
+  !> O(h / box) there, the correction they scale is O(h)). Why: with the
+  !> sheared cells alone the two sides are translates, not mirror images,
+  !> and Q1 couples a slip to a normal force; next to the tip of a slipping
+  !> fracture that coupling grows as the mesh is refined, and the tip
+  !> elements' normal traction fell to 0.31, 0.09 and 0 of the exact value on
+  !> 30, 60 and 120 elements of the inclined-crack benchmark
+  !> (input/single_fracture.nml); with this map every element is within
+  !> 0.4 % (tests/verification/contact.sh). A plateau of w = 1 over half the
+  !> distance to the box ends was as accurate but distorted the blend region
+  !> enough to cost BoomerAMG two iterations on the contact benchmark.
+  !> Applied to faults with a tip along dip_axis (lower or upper inside the
+  !> box) only; where it would invert a cell (a coarse box, a steep dip) the
+  !> sheared cells are kept.
   subroutine square_up(mesh, n, lo, hi, p, fault, a, d, l, below, above)
     type(mesh_t), intent(inout) :: mesh
     integer(ip), intent(in) :: n(3), a, d, l, below, above
@@ -499,14 +502,14 @@ contains
     do i = below, above
       s = p(i + 1) - p(l + 1)
       if (s < 0.0_rp) then
-        w(i) = min(1.0_rp, 2.0_rp * (p(i + 1) - p(below + 1)) / (p(l + 1) - p(below + 1)))
+        w(i) = (p(i + 1) - p(below + 1)) / (p(l + 1) - p(below + 1))
       else
-        w(i) = min(1.0_rp, 2.0_rp * (p(above + 1) - p(i + 1)) / (p(above + 1) - p(l + 1)))
+        w(i) = (p(above + 1) - p(i + 1)) / (p(above + 1) - p(l + 1))
       end if
     end do
     len_d = hi(d) - lo(d)
-    p_lo = min(max(lo(d) + 0.125_rp * len_d, fault%lower(d) - 0.125_rp * len_d), 0.5_rp * (lo(d) + hi(d)))
-    p_hi = max(min(hi(d) - 0.125_rp * len_d, fault%upper(d) + 0.125_rp * len_d), 0.5_rp * (lo(d) + hi(d)))
+    p_lo = min(max(lo(d) + 0.125_rp * len_d, fault%lower(d)), 0.5_rp * (lo(d) + hi(d)))
+    p_hi = max(min(hi(d) - 0.125_rp * len_d, fault%upper(d)), 0.5_rp * (lo(d) + hi(d)))
     do k = 0, n(3)
       do j = 0, n(2)
         do i = 0, n(1)

@@ -5,6 +5,7 @@
 !> Run on 1, 2 and 3 ranks; the global meshes are small and every rank builds
 !> its own copy, so global expectations are checked on every rank.
 program test_fault_mesh
+  use strings, only: rtoa
   use kinds, only: rp, ip, gp, msg_len, path_len
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
@@ -132,12 +133,14 @@ program test_fault_mesh
     call g%check(st)
     call suite%assert_true(st%ok(), 'cored fault: all Jacobians positive')
     call suite%assert_equal_int(iface_violations(g), 0, 'cored fault: interface elements consistent')
-    ! squared up around the fracture: the cell edges leaving it are perpendicular to it and, both
-    ! sides, as long as the core cells (0.05): mirror images (box_mesh square_up)
+    ! squared up around the fracture (box_mesh square_up): the cell edges leaving it cross it within
+    ! 3 degrees of its normal (20 when sheared; the 5-degree tip warning of contact is not reached)
+    ! and are 0.05 long to 2 % on both sides (the blend leaves second-order differences)
     call crossing_edges(g, [sin(20.0_rp * pi / 180.0_rp), cos(20.0_rp * pi / 180.0_rp), 0.0_rp], worst, e_len)
-    call suite%assert_close(worst, 0.0_rp, 1.0e-12_rp, 'cored fault: the cells crossing it are perpendicular to it')
-    call suite%assert_close(e_len(1), 0.05_rp, 1.0e-12_rp, 'cored fault: crossing edges 0.05 long (shortest)')
-    call suite%assert_close(e_len(2), 0.05_rp, 1.0e-12_rp, 'cored fault: crossing edges 0.05 long (longest)')
+    call suite%assert_true(worst <= sin(3.0_rp * pi / 180.0_rp), 'cored fault: the cells crossing it are within '// &
+                           '3 degrees of its normal: '//rtoa(asin(worst) * 180.0_rp / pi)//' degrees')
+    call suite%assert_close(e_len(1), 0.05_rp, 1.0e-3_rp, 'cored fault: crossing edges 0.05 long (shortest)')
+    call suite%assert_close(e_len(2), 0.05_rp, 1.0e-3_rp, 'cored fault: crossing edges 0.05 long (longest)')
   end if
 
   ! ---- two crossing vertical faults through the whole box --------------------------------------
