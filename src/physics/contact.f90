@@ -51,6 +51,7 @@ module contact
   use boundary_config, only: boundary_config_t
   use fault_config, only: fault_config_t
   use interface_element, only: interface_geometry
+  use fault_edges, only: fault_edges_t
   implicit none
   private
 
@@ -80,10 +81,8 @@ module contact
     real(rp), allocatable :: trac(:,:), trac_step(:,:)     !< (3,n) local-frame traction [Pa]
     real(rp), allocatable :: jump(:,:), jump_step(:,:)     !< (3,n) local-frame mean jump [m]
     ! stabilization edges
-    integer(ip) :: n_edges = 0
-    integer(ip), allocatable :: edge(:,:)          !< (2, n_edges) local elements
-    real(rp), allocatable :: eb(:,:,:,:)           !< (3,3,3,n_edges): blocks 11, 12, 22
-    integer(ip), allocatable :: elem_edges(:,:)    !< (4, n) edges of each element (0 = none)
+    type(fault_edges_t) :: edges                   !< neighbouring elements (fault_edges)
+    real(rp), allocatable :: eb(:,:,:,:)           !< (3,3,3,edges%n): blocks 11, 12, 22
     real(rp) :: length = 1.0_rp                    !< mesh size scale [m] (sqrt of the mean element area)
     type(fault_config_t), allocatable :: faults(:)
     integer :: fault_of_set = 0
@@ -137,7 +136,7 @@ contains
     end do
 
     call geometry(self, mesh)
-    call find_edges(self, mesh)
+    call self%edges%build(mesh)
     call edge_blocks(self, mesh)
 
     block
@@ -153,9 +152,9 @@ contains
       call self%sys%set_pattern(bu, bt, umap, tmap, row_ptr, col)
       call element_pattern(nown, self_conn, conn8, 3_ip, 3_ip, row_ptr, col)
       call self%sys%set_pattern(bt, bu, tmap, umap, row_ptr, col)
-      allocate(pairs(2, n + self%n_edges))
+      allocate(pairs(2, n + self%edges%n))
       pairs(:, 1:n) = spread(self_conn(1, :), 1, 2)
-      pairs(:, n+1:) = self%edge
+      pairs(:, n+1:) = self%edges%pair
       call element_pattern(nown, pairs, pairs, 3_ip, 3_ip, row_ptr, col)
       call self%sys%set_pattern(bt, bt, tmap, tmap, row_ptr, col)
     end associate
@@ -219,88 +218,6 @@ contains
     if (n_sum > 0.0_rp) self%length = sqrt(a_sum / n_sum)
   end subroutine geometry
 
-  !> Pairs of local elements sharing an edge (exactly two elements on it)
-  !> with at least one of them owned. Positions on a fault are identified by
-  !> the smaller of their two node ids, so that the two sides and either
-  !> orientation give the same key.
-  subroutine find_edges(self, mesh)
-    type(contact_t), intent(inout) :: self
-    type(dist_mesh_t), intent(in) :: mesh
-    integer(ip), allocatable :: key(:,:), order(:)
-    integer(ip) :: n, e, k, i, a, b, m, nown, e1, e2, j
-    n = mesh%n_ifaces
-    nown = mesh%iface_map%n_owned
-    allocate(key(4, 4*n), order(4*n))
-    m = 0
-    do e = 1, n
-      do k = 1, 4
-        a = min(mesh%iface_nodes(k, 1, e), mesh%iface_nodes(k, 2, e))
-        b = min(mesh%iface_nodes(mod(k, 4) + 1, 1, e), mesh%iface_nodes(mod(k, 4) + 1, 2, e))
-        m = m + 1
-        key(:, m) = [min(a, b), max(a, b), e, k]
-      end do
-    end do
-    call sort_pairs(key, order)
-    allocate(self%edge(2, 2*n), self%elem_edges(4, n))
-    self%elem_edges = 0
-    self%n_edges = 0
-    i = 1
-    do while (i <= m)
-      j = i
-      do while (j < m)
-        if (any(key(1:2, order(j+1)) /= key(1:2, order(i)))) exit
-        j = j + 1
-      end do
-      if (j == i + 1) then
-        e1 = key(3, order(i))
-        e2 = key(3, order(j))
-        if (e1 /= e2 .and. (e1 <= nown .or. e2 <= nown)) then
-          self%n_edges = self%n_edges + 1
-          self%edge(:, self%n_edges) = [min(e1, e2), max(e1, e2)]
-          self%elem_edges(key(4, order(i)), e1) = self%n_edges
-          self%elem_edges(key(4, order(j)), e2) = self%n_edges
-        end if
-      end if
-      i = j + 1
-    end do
-    self%edge = self%edge(:, 1:self%n_edges)
-  end subroutine find_edges
-
-  !> Sort the columns of key(4, m) by (key(1), key(2)); order(i) is the
-  !> column of rank i. Heap sort (no recursion, O(m log m)).
-  subroutine sort_pairs(key, order)
-    integer(ip), intent(in) :: key(:,:)
-    integer(ip), intent(out) :: order(:)
-    integer(ip) :: m, i, root, child, t, last
-    m = size(order, kind=ip)
-    order = [(i, i = 1, m)]
-    do i = m / 2, 1, -1
-      call sift(i, m)
-    end do
-    do last = m, 2, -1
-      t = order(1); order(1) = order(last); order(last) = t
-      call sift(1_ip, last - 1)
-    end do
-  contains
-    logical function less(p, q)
-      integer(ip), intent(in) :: p, q
-      less = key(1, p) < key(1, q) .or. (key(1, p) == key(1, q) .and. key(2, p) < key(2, q))
-    end function less
-    subroutine sift(start, n)
-      integer(ip), intent(in) :: start, n
-      root = start
-      do while (2 * root <= n)
-        child = 2 * root
-        if (child < n) then
-          if (less(order(child), order(child + 1))) child = child + 1
-        end if
-        if (.not. less(order(root), order(child))) return
-        t = order(root); order(root) = order(child); order(child) = t
-        root = child
-      end do
-    end subroutine sift
-  end subroutine sort_pairs
-
   !> The 3x3 blocks of H_t of every edge (see the module header).
   subroutine edge_blocks(self, mesh)
     type(contact_t), intent(inout) :: self
@@ -310,15 +227,15 @@ contains
     real(rp) :: mm(3, 3), inv(3), kdm(3), kdp(3), sigma
     integer(ip) :: ed, e1, e2, q, k1, k2, nm, np, cm(2), cp(2), ks(2)
     logical :: found
-    allocate(self%eb(3, 3, 3, self%n_edges))
+    allocate(self%eb(3, 3, 3, self%edges%n))
     allocate(kd(24, mesh%n_cells), done(mesh%n_cells))
     done = .false.
-    do ed = 1, self%n_edges
-      e1 = self%edge(1, ed)
-      e2 = self%edge(2, ed)
+    do ed = 1, self%edges%n
+      e1 = self%edges%pair(1, ed)
+      e2 = self%edges%pair(2, ed)
       mm = 0.0_rp
       sigma = 0.0_rp
-      ks = pack([1_ip, 2_ip, 3_ip, 4_ip], self%elem_edges(:, e1) == ed, [0_ip, 0_ip])
+      ks = pack([1_ip, 2_ip, 3_ip, 4_ip], self%edges%of_elem(:, e1) == ed, [0_ip, 0_ip])
       do q = 0, 1
         k1 = mod(ks(1) - 1 + q, 4) + 1
         nm = mesh%iface_nodes(k1, 1, e1)
@@ -525,16 +442,16 @@ contains
         ! stabilization: -H restricted to the constrained components
         if (self%stabilized .and. ne > 0) then
           do k = 1, 4
-            ed = self%elem_edges(k, e)
+            ed = self%edges%of_elem(k, e)
             if (ed == 0) cycle
-            if (self%edge(1, ed) == e) then
-              o = self%edge(2, ed)
+            if (self%edges%pair(1, ed) == e) then
+              o = self%edges%pair(2, ed)
               hb = self%eb(:, :, 1, ed)
               call add_h(hb, e)
               hb = self%eb(:, :, 2, ed)
               call add_h(hb, o)
             else
-              o = self%edge(1, ed)
+              o = self%edges%pair(1, ed)
               hb = self%eb(:, :, 3, ed)
               call add_h(hb, e)
               hb = transpose(self%eb(:, :, 2, ed))
@@ -778,11 +695,9 @@ contains
     if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, self%fresh, &
                                                  self%fault)
     if (allocated(self%trac)) deallocate(self%trac, self%trac_step, self%jump, self%jump_step)
-    if (allocated(self%edge)) deallocate(self%edge)
+    call self%edges%free()
     if (allocated(self%eb)) deallocate(self%eb)
-    if (allocated(self%elem_edges)) deallocate(self%elem_edges)
     if (allocated(self%faults)) deallocate(self%faults)
-    self%n_edges = 0
     self%bu = 1
     self%bt = 2
   end subroutine free

@@ -131,7 +131,7 @@ contains
     call warn_tip_skew(self, log)
     call log%info('unknowns: u '//itoa(int(self%phys%mech%u%map%n_global))//', t '// &
       itoa(int(self%phys%t%map%n_global))//' ('//itoa(int(mesh%iface_map%n_global))//' interface elements, '// &
-      itoa(int(self%comm%sum(self%phys%n_edges)))//' stabilization edge entries)')
+      itoa(int(self%comm%sum(self%phys%edges%n)))//' stabilization edge entries)')
     if (self%solver%method == 'mumps') then
       call log%info('linear solver: MUMPS (direct) at every Newton iteration')
     else

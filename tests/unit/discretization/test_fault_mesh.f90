@@ -10,6 +10,7 @@ program test_fault_mesh
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
   use assertions, only: test_suite_t
+  use deck_files, only: write_lines
   use logger, only: logger_t
   use deck, only: deck_t
   use mesh, only: mesh_t, hex_face_nodes
@@ -633,14 +634,6 @@ contains
 
   subroutine write_deck(path, lines)
     character(len=*), intent(in) :: path, lines(:)
-    integer :: u, i
-    if (comm%is_root()) then
-      open(newunit=u, file=path, status='replace', action='write')
-      do i = 1, size(lines)
-        write(u, '(a)') trim(lines(i))
-      end do
-      close(u)
-    end if
-    call comm%barrier()
+    call write_lines(comm, path, lines)
   end subroutine write_deck
 end program test_fault_mesh
