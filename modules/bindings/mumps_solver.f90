@@ -283,6 +283,7 @@ contains
       self%id%ICNTL(18) = 0              ! centralized matrix on the host
       self%id%ICNTL(20) = 0              ! centralized dense right-hand side
       self%id%ICNTL(21) = 0              ! centralized solution (overwrites RHS)
+      self%id%ICNTL(10) = 4              ! up to 4 steps of iterative refinement (centralized rhs only)
     else
       self%id%ICNTL(18) = 3              ! distributed: pattern at analysis, values at factorization
       self%id%ICNTL(20) = 10             ! distributed dense right-hand side

@@ -19,6 +19,7 @@
 !> factorization's relative thresholds (MUMPS reported a stabilized stick
 !> system of 58,614 unknowns numerically singular on one process).
 !> A direct solve is checked: its true relative residual ||b - A x|| / ||b||
+!> (in the scaled norm ||D (b - A x)|| / ||D b|| when a scaling is given)
 !> must be at most max(rtol, 1e-10) (or below the floor), else the solve is
 !> reported as not converged.
 module linear_solver
@@ -197,7 +198,14 @@ contains
     allocate(r(size(sys%b)))
     call sys%a%apply(sys%x, r)
     r = sys%b - r
-    bnorm = pnorm2(self%comm, sys%b)
+    if (associated(sys%d)) then
+      ! the scaled residual, as for the Krylov methods: every block counts
+      ! (an unscaled norm adds forces to volumes)
+      r = sys%d * r
+      bnorm = pnorm2(self%comm, sys%d * sys%b)
+    else
+      bnorm = pnorm2(self%comm, sys%b)
+    end if
     rnorm = pnorm2(self%comm, r)
     if (self%first_norm < 0.0_rp) self%first_norm = bnorm
     info%res0 = bnorm

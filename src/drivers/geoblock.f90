@@ -26,10 +26,11 @@ program geoblock
   implicit none
 
   !> the deck groups (the repeatable ones may appear more than once)
-  character(len=16), parameter :: groups(15) = [character(len=16) :: 'run', 'mesh', 'material', 'boundary', &
-    'time', 'solver', 'amg', 'output', 'biot', 'source', 'afsai', 'block_fsai', 'fault', 'contact', 'probe']
-  character(len=16), parameter :: repeatable(5) = [character(len=16) :: 'material', 'boundary', 'source', 'fault', &
-    'probe']
+  character(len=16), parameter :: groups(17) = [character(len=16) :: 'run', 'mesh', 'material', 'boundary', &
+    'time', 'solver', 'amg', 'output', 'biot', 'source', 'afsai', 'block_fsai', 'fault', 'contact', 'probe', &
+    'fracture_flow', 'well']
+  character(len=16), parameter :: repeatable(6) = [character(len=16) :: 'material', 'boundary', 'source', 'fault', &
+    'probe', 'well']
 
   type(parallel_comm_t) :: comm
   type(logger_t) :: log

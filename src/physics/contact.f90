@@ -52,6 +52,8 @@ module contact
   use fault_config, only: fault_config_t
   use interface_element, only: interface_geometry
   use fault_edges, only: fault_edges_t
+  use fracture_flow, only: fracture_flow_t
+  use flow_config, only: flow_config_t, well_config_t
   implicit none
   private
 
@@ -86,6 +88,18 @@ module contact
     real(rp) :: length = 1.0_rp                    !< mesh size scale [m] (sqrt of the mean element area)
     type(fault_config_t), allocatable :: faults(:)
     integer :: fault_of_set = 0
+    ! fluid in the fractures (physics 'fracture_flow', flow = .true.): one
+    ! pressure per element in block bp, the faces carry t - p n
+    logical :: flow = .false.
+    integer :: bp = 3                              !< block index of p
+    type(dof_map_t) :: pd                          !< 1 pressure per interface element
+    type(fracture_flow_t) :: ff                    !< cubic-law transmissibilities
+    real(rp), allocatable :: p(:), p_step(:)       !< (n) fluid pressure now and at the step's start [Pa]
+    real(rp), allocatable :: gn_step(:)            !< (n) normal jump at the step's start [m]
+    real(rp), allocatable :: q_src(:)              !< (n) injected rate of the step [m^3/s]
+    integer(ip), allocatable :: well_elem(:)       !< (wells) local owned element of each well, 0 elsewhere
+    real(rp) :: dt = 1.0_rp                        !< time step [s]
+    real(rp) :: cf = 0.0_rp                        !< fluid compressibility [1/Pa]
   contains
     procedure :: init
     procedure :: assemble_stiffness
@@ -96,6 +110,7 @@ module contact
     procedure :: count_states
     procedure :: ht_diagonal
     procedure :: tip_skew
+    procedure :: begin_flow_step
     procedure :: free
   end type contact_t
 
@@ -104,7 +119,7 @@ contains
   !> Fields, patterns, geometry and stabilization of the faults of mesh.
   !> t_first puts the tractions in block 1 (the reordered preconditioner).
   !> Collective.
-  subroutine init(self, mesh, mats, bcs, faults, stabilized, t_first, status)
+  subroutine init(self, mesh, mats, bcs, faults, stabilized, t_first, status, fcfg, wells)
     class(contact_t), intent(inout), target :: self
     type(dist_mesh_t), intent(in) :: mesh
     type(material_config_t), intent(in) :: mats(:)
@@ -112,6 +127,8 @@ contains
     type(fault_config_t), intent(in) :: faults(:)
     logical, intent(in) :: stabilized, t_first
     type(error_status_t), intent(inout) :: status
+    type(flow_config_t), intent(in), optional :: fcfg     !< with the fluid: physics 'fracture_flow'
+    type(well_config_t), intent(in), optional :: wells(:)
     integer(ip), allocatable :: row_ptr(:), col(:), conn8(:,:), self_conn(:,:), pairs(:,:)
     integer(ip) :: e, n, f, nown
 
@@ -139,10 +156,13 @@ contains
     call self%edges%build(mesh)
     call edge_blocks(self, mesh)
 
+    self%flow = present(fcfg)
+    if (self%flow) call self%pd%init('pressure', mesh%iface_map, 1_ip)
     block
-      integer(ip) :: no(2)
+      integer(ip) :: no(merge(3, 2, self%flow))
       no(self%bu) = self%mech%u%n_owned()
       no(self%bt) = self%t%n_owned()
+      if (self%flow) no(self%bp) = self%pd%n_owned()
       call self%sys%init(no)
     end block
     associate (umap => self%mech%u%map, tmap => self%t%map, bu => self%bu, bt => self%bt)
@@ -159,6 +179,7 @@ contains
       call self%sys%set_pattern(bt, bt, tmap, tmap, row_ptr, col)
     end associate
     call assemble_c1(self, mesh)
+    if (self%flow) call flow_init(self, mesh, conn8, self_conn, fcfg, wells)
 
     ! fault properties and initial state
     allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%fault(n))
@@ -182,8 +203,15 @@ contains
     self%trac_step = 0.0_rp
     self%jump = 0.0_rp
     self%jump_step = 0.0_rp
-    allocate(self%x(self%sys%offset(3)), self%rhs(self%sys%offset(3)))
+    allocate(self%x(self%sys%offset(self%sys%nb + 1)), self%rhs(self%sys%offset(self%sys%nb + 1)))
     self%x = 0.0_rp
+    if (self%flow) then
+      block
+        integer(ip) :: p0, p1
+        call self%sys%block_range(self%bp, p0, p1)
+        self%x(p0:p1) = fcfg%initial_pressure
+      end block
+    end if
     allocate(self%u(self%mech%u%n_local()), self%f_u(self%mech%u%n_owned()))
     self%u = 0.0_rp
   end subroutine init
@@ -289,6 +317,190 @@ contains
     end function node_diag
   end subroutine edge_blocks
 
+  !> The fluid's patterns, Q1 = -(normal column of C1) (the faces carry
+  !> t - p n; assembled once), the transmissibility kernel, the wells'
+  !> elements and the initial pressure. Collective.
+  subroutine flow_init(self, mesh, conn8, self_conn, fcfg, wells)
+    type(contact_t), intent(inout), target :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: conn8(:,:), self_conn(:,:)
+    type(flow_config_t), intent(in) :: fcfg
+    type(well_config_t), intent(in) :: wells(:)
+    integer(ip), allocatable :: row_ptr(:), col(:), connp(:,:)
+    integer(ip) :: n, e, k, ed, o, j, rows(24)
+    real(rp) :: be(3, 24)
+    n = mesh%n_ifaces
+    associate (umap => self%mech%u%map, pmap => self%pd%map, bu => self%bu, bp => self%bp)
+      call element_pattern(mesh%node_map%n_owned, conn8, self_conn, 3_ip, 1_ip, row_ptr, col)
+      call self%sys%set_pattern(bu, bp, umap, pmap, row_ptr, col)
+      ! a mass row sees the nodes of its element and of its edge neighbours
+      allocate(connp(40, n))
+      connp = 0
+      do e = 1, n
+        connp(1:8, e) = conn8(:, e)
+        do k = 1, 4
+          ed = self%edges%of_elem(k, e)
+          if (ed == 0) cycle
+          o = self%edges%pair(1, ed) + self%edges%pair(2, ed) - e
+          connp(8*k+1:8*k+8, e) = conn8(:, o)
+        end do
+      end do
+      call element_pattern(mesh%iface_map%n_owned, self_conn, connp, 1_ip, 3_ip, row_ptr, col)
+      call self%sys%set_pattern(bp, bu, pmap, umap, row_ptr, col)
+      call self%ff%pattern(mesh, self%edges, row_ptr, col)
+      call self%sys%set_pattern(bp, bp, pmap, pmap, row_ptr, col)
+    end associate
+    associate (q1 => self%sys%a(self%bu, self%bp))
+      call q1%zero()
+      do e = 1, mesh%iface_map%n_owned
+        call jump_operator(self, mesh, e, be, rows)
+        do j = 1, 24
+          if (self%mech%fixed(rows(j))) rows(j) = 0
+        end do
+        call q1%add_block(rows, [e], -transpose(be(1:1, :)))
+      end do
+      call q1%finalize_assembly()
+    end associate
+    call self%ff%init(mesh, self%edges, fcfg%viscosity, fcfg%residual_aperture)
+    self%cf = fcfg%compressibility
+    allocate(self%p(n), self%p_step(n), self%gn_step(n), self%q_src(n))
+    self%p = fcfg%initial_pressure
+    self%p_step = self%p
+    self%gn_step = 0.0_rp
+    self%q_src = 0.0_rp
+    call locate_wells(self, mesh, wells)
+  end subroutine flow_init
+
+  !> Each well's element: the owned element whose centre is nearest to the
+  !> well's point over all ranks (ties: the lowest original element id).
+  !> Collective.
+  subroutine locate_wells(self, mesh, wells)
+    type(contact_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    type(well_config_t), intent(in) :: wells(:)
+    type(parallel_comm_t) :: comm
+    real(rp) :: best, d2, gbest, c(3)
+    integer(gp) :: bid, gid
+    integer(ip) :: e, chosen
+    integer :: k
+    comm = mesh%comm
+    allocate(self%well_elem(size(wells)))
+    self%well_elem = 0
+    do k = 1, size(wells)
+      best = huge(1.0_rp)
+      bid = huge(1_gp)
+      chosen = 0
+      do e = 1, mesh%iface_map%n_owned
+        c = sum(mesh%coords(:, mesh%iface_nodes(:, 1, e)), dim=2) / 4.0_rp
+        d2 = sum((c - wells(k)%point)**2)
+        if (d2 < best .or. (d2 == best .and. mesh%iface_orig(e) < bid)) then
+          best = d2
+          bid = mesh%iface_orig(e)
+          chosen = e
+        end if
+      end do
+      gbest = -comm%max(-best)
+      gid = -comm%max(-merge(bid, huge(1_gp), best == gbest))
+      if (chosen > 0 .and. best == gbest .and. bid == gid) self%well_elem(k) = chosen
+    end do
+  end subroutine locate_wells
+
+  !> Start a time step of the fluid: the step's pressure and normal jumps,
+  !> dt [s] and the wells' rates at the step's end time t (implicit Euler).
+  subroutine begin_flow_step(self, wells, t, dt)
+    class(contact_t), intent(inout) :: self
+    type(well_config_t), intent(in) :: wells(:)
+    real(rp), intent(in) :: t, dt
+    integer :: k
+    self%dt = dt
+    self%p_step = self%p
+    self%gn_step = self%jump(1, :)
+    self%q_src = 0.0_rp
+    do k = 1, size(wells)
+      if (self%well_elem(k) > 0) self%q_src(self%well_elem(k)) = self%q_src(self%well_elem(k)) + wells(k)%rate_at(t)
+    end do
+  end subroutine begin_flow_step
+
+  !> The mass rows of the fluid and their residual, per owned element e, in
+  !> volumes over the step (the balance times dt, so that a step of size 0 is
+  !> no division):
+  !>   A (g_N - g_N^step) + A a c_f (p - p^step) + dt sum over edges T (p_e - p_o)
+  !>     + (H_N (p - p^step))_e - dt q_e = 0,
+  !> T from the cubic law at the current apertures (with its aperture
+  !> derivatives in the u columns), c_f the fluid compressibility and H_N
+  !> the normal-normal part of the traction stabilization's edge blocks: the
+  !> pressure enters the momentum exactly as t_N does (Q1 = -C1 normal), so
+  !> these rows give the stabilized saddle point of the contact block with
+  !> -(dt T + storage + H_N) in place of -H_t. H_N acts on the pressure's
+  !> increment: it vanishes at steady state and sums to zero over the
+  !> fracture (mass is conserved exactly). A step of size 0 (&time undrained,
+  !> the mechanical equilibrium at the start) keeps the pressure: p = p^step.
+  !> Local.
+  subroutine assemble_mass_rows(self, mesh)
+    type(contact_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp) :: be(3, 24), bo(3, 24), r, dp, m_self, m_off, dt, stor
+    integer(ip) :: e, k, ed, o, dofs(24), dofo(24), p0, p1
+    integer :: s
+    dt = self%dt
+    associate (jpu => self%sys%a(self%bp, self%bu), jpp => self%sys%a(self%bp, self%bp))
+      call jpu%zero()
+      call jpp%zero()
+      call self%sys%block_range(self%bp, p0, p1)
+      do e = 1, mesh%iface_map%n_owned
+        if (dt == 0.0_rp) then
+          call jpp%add_value(e, e, 1.0_rp)
+          self%rhs(p0 + e - 1) = -(self%p(e) - self%p_step(e))
+          cycle
+        end if
+        call free_jump_operator(e, be, dofs)
+        stor = self%area(e) * self%ff%aperture(e) * self%cf
+        r = self%area(e) * (self%jump(1, e) - self%gn_step(e)) + stor * (self%p(e) - self%p_step(e)) &
+            - dt * self%q_src(e)
+        call jpu%add_block([e], dofs, be(1:1, :) * (1.0_rp + self%cf * (self%p(e) - self%p_step(e)) &
+                                                    * self%ff%da_dg(e)))
+        call jpp%add_value(e, e, stor)
+        do k = 1, 4
+          ed = self%edges%of_elem(k, e)
+          if (ed == 0) cycle
+          s = merge(1, 2, self%edges%pair(1, ed) == e)
+          o = self%edges%pair(3 - s, ed)
+          dp = self%p(e) - self%p(o)
+          r = r + dt * self%ff%trans(ed) * dp
+          call jpp%add_value(e, e, dt * self%ff%trans(ed))
+          call jpp%add_value(e, o, -dt * self%ff%trans(ed))
+          if (dp /= 0.0_rp .and. self%ff%da_dg(e) > 0.0_rp) &
+            call jpu%add_block([e], dofs, dt * dp * self%ff%dtrans(s, ed) * be(1:1, :) / self%area(e))
+          if (dp /= 0.0_rp .and. self%ff%da_dg(o) > 0.0_rp) then
+            call free_jump_operator(o, bo, dofo)
+            call jpu%add_block([e], dofo, dt * dp * self%ff%dtrans(3 - s, ed) * bo(1:1, :) / self%area(o))
+          end if
+          if (.not. self%stabilized) cycle
+          m_self = self%eb(1, 1, merge(1, 3, s == 1), ed)
+          m_off = self%eb(1, 1, 2, ed)
+          call jpp%add_value(e, e, m_self)
+          call jpp%add_value(e, o, m_off)
+          r = r + m_self * (self%p(e) - self%p_step(e)) + m_off * (self%p(o) - self%p_step(o))
+        end do
+        self%rhs(p0 + e - 1) = -r
+      end do
+      call jpu%finalize_assembly()
+      call jpp%finalize_assembly()
+    end associate
+  contains
+    !> The jump operator of element ee with the prescribed dofs' columns zero.
+    subroutine free_jump_operator(ee, b, d)
+      integer(ip), intent(in) :: ee
+      real(rp), intent(out) :: b(3, 24)
+      integer(ip), intent(out) :: d(24)
+      integer(ip) :: j
+      call jump_operator(self, mesh, ee, b, d)
+      do j = 1, 24
+        if (self%mech%fixed(d(j))) b(:, j) = 0.0_rp
+      end do
+    end subroutine free_jump_operator
+  end subroutine assemble_mass_rows
+
   !> C1 = integral of [[N]]^T R^T over the owned elements (rows of the
   !> prescribed dofs left out). Constant: assembled once.
   subroutine assemble_c1(self, mesh)
@@ -331,14 +543,19 @@ contains
 
   !> Assemble K and the momentum load at load factor lf (fault pressures at
   !> lf too); on the first call also the row scales s. Collective.
-  subroutine assemble_stiffness(self, mesh, lf)
+  subroutine assemble_stiffness(self, mesh, lf, time)
     class(contact_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), intent(in) :: lf
+    real(rp), intent(in), optional :: time    !< the histories' time when it is not lf (a transient run)
     real(rp), allocatable :: d(:)
     real(rp) :: kn(2)
     integer(ip) :: e, a, s, nd
-    call self%mech%set_time(lf)
+    if (present(time)) then
+      call self%mech%set_time(time)
+    else
+      call self%mech%set_time(lf)
+    end if
     call self%mech%assemble_into(mesh, lf, self%sys%a(self%bu, self%bu), self%f_u)
     do e = 1, mesh%n_ifaces
       associate (f => self%faults(self%fault(e)))
@@ -468,7 +685,11 @@ contains
       allocate(tp(no), w(u1 - u0 + 1))
       tp = self%x(t0:t1)
       do e = 1, mesh%iface_map%n_owned
-        tp(3*e-2) = tp(3*e-2) - self%pres(e)
+        if (self%flow) then
+          tp(3*e-2) = tp(3*e-2) - self%p(e)
+        else
+          tp(3*e-2) = tp(3*e-2) - self%pres(e)
+        end if
       end do
       call self%sys%apply_block(self%bu, self%bu, self%x(u0:u1), self%rhs(u0:u1))
       call self%sys%apply_block(self%bu, self%bt, tp, w)
@@ -477,6 +698,7 @@ contains
         if (self%mech%fixed(i)) self%rhs(u0 + i - 1) = 0.0_rp
       end do
     end associate
+    if (self%flow) call assemble_mass_rows(self, mesh)
   contains
     !> Row e gets -hb(1:ne, 1:n_o) on the columns of o and the residual -hb v(o).
     subroutine add_h(hbl, oe)
@@ -536,6 +758,14 @@ contains
       call jump_operator(self, mesh, e, be, dofs)
       self%jump(:, e) = matmul(be, self%u(dofs)) / self%area(e)
     end do
+    if (self%flow) then
+      call self%sys%block_range(self%bp, t0, t1)
+      tl = 0.0_rp
+      tl(1:t1-t0+1) = self%x(t0:t1)
+      call self%pd%map%import(tl(1:mesh%n_ifaces))
+      self%p = tl(1:mesh%n_ifaces)
+      call self%ff%set_apertures(self%edges, self%jump(1, :))
+    end if
   end subroutine take_solution
 
   !> Active-set update of the owned elements from the current state, ghosts
@@ -697,6 +927,11 @@ contains
     if (allocated(self%trac)) deallocate(self%trac, self%trac_step, self%jump, self%jump_step)
     call self%edges%free()
     if (allocated(self%eb)) deallocate(self%eb)
+    call self%pd%free()
+    call self%ff%free()
+    if (allocated(self%p)) deallocate(self%p, self%p_step, self%gn_step, self%q_src)
+    if (allocated(self%well_elem)) deallocate(self%well_elem)
+    self%flow = .false.
     if (allocated(self%faults)) deallocate(self%faults)
     self%bu = 1
     self%bt = 2

@@ -19,6 +19,7 @@ module contact_simulation
   use mesh_config, only: mesh_config_t
   use contact_config, only: contact_config_t
   use fault_config, only: read_faults, load_fault_histories
+  use flow_config, only: flow_config_t, well_config_t, read_wells, load_well_histories
   use dist_mesh, only: dist_mesh_t
   use field_output, only: field_output_t
   use probe_fields, only: probe_fields_t
@@ -50,6 +51,10 @@ module contact_simulation
     real(rp) :: lf = 0.0_rp                         !< load factor of the step
     type(mesh_pieces_t) :: pieces                   !< connected pieces of the mesh (faults cut them)
     integer(gp) :: open_checked = -1                !< open elements when the pieces were last checked
+    ! physics = 'fracture_flow': the fluid in the fractures
+    logical :: flow = .false.
+    type(flow_config_t) :: fcfg                     !< &fracture_flow
+    type(well_config_t), allocatable :: wells(:)    !< &well groups
   contains
     procedure :: name
     procedure :: read_deck
@@ -76,7 +81,7 @@ contains
   function name(self) result(s)
     class(contact_simulation_t), intent(in) :: self
     character(len=name_len) :: s
-    s = 'contact'
+    s = merge('fracture_flow', 'contact      ', self%flow)
   end function name
 
   !> The shared groups, &contact and the &fault groups (with their pressure
@@ -91,6 +96,7 @@ contains
     if (status%ok()) call self%ccfg%read(d, log, status)
     if (status%ok()) call read_faults(d, log, self%faults, status, mcfg%source)
     if (status%ok()) call load_fault_histories(self%comm, self%faults, status)
+    if (status%ok() .and. self%flow) call read_flow_groups(self, d, log, status)
     if (.not. status%ok()) return
     self%max_newton = self%ccfg%max_newton
     self%max_cuts = self%ccfg%max_cuts
@@ -101,6 +107,33 @@ contains
       call status%set("deck '"//trim(d%path)//"': physics = 'contact' needs at least one &fault group")
     end if
   end subroutine read_deck
+
+  !> &fracture_flow and &well (with their histories) of a 'fracture_flow'
+  !> run, which steps in time; the fluid pressure is an unknown there, so a
+  !> fault's prescribed pressure is refused, and only MUMPS solves the u-t-p
+  !> system for now (its block preconditioner is not built yet).
+  subroutine read_flow_groups(self, d, log, status)
+    type(contact_simulation_t), intent(inout) :: self
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    integer :: k
+    self%transient = .true.
+    call self%fcfg%read(d, log, status)
+    if (status%ok()) call read_wells(d, log, self%wells, status)
+    if (status%ok()) call load_well_histories(self%comm, self%wells, status)
+    if (.not. status%ok()) return
+    do k = 1, size(self%faults)
+      if (self%faults(k)%pressure /= 0.0_rp .or. len_trim(self%faults(k)%pressure_history) > 0) then
+        call d%fail(status, 'fault', k, 'pressure', "the fluid pressure is an unknown with physics = "// &
+          "'fracture_flow' (set its start with &fracture_flow initial_pressure)")
+        return
+      end if
+    end do
+    if (self%solver%method /= 'mumps') call status%set("deck '"//trim(d%path)//"', group &solver, variable "// &
+      "method: physics = 'fracture_flow' is solved by 'mumps' for now (the u-t-p block preconditioner is "// &
+      "not built yet)")
+  end subroutine read_flow_groups
 
   !> Split nodes, tractions, patterns and the stabilization; the rigid-body
   !> check. The tractions come first in the block system for the reordered
@@ -121,8 +154,13 @@ contains
         itoa(min_block_interfaces)//' for the block preconditioners: the direct solver MUMPS is used instead of '// &
         'FGMRES')
     end if
-    call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
-                        self%solver%method /= 'mumps' .and. self%ccfg%block /= 'classical', status)
+    if (self%flow) then
+      call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
+                          .false., status, self%fcfg, self%wells)
+    else
+      call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
+                          self%solver%method /= 'mumps' .and. self%ccfg%block /= 'classical', status)
+    end if
     call agree(self%comm, status)
     if (.not. status%ok()) return
     call self%pieces%build(mesh)
@@ -156,6 +194,16 @@ contains
     class(contact_simulation_t), intent(inout) :: self
     real(rp), intent(in) :: t, dt
     type(error_status_t), intent(inout) :: status
+    if (self%flow) then
+      ! time t: the loads at full value times their histories at t
+      self%lf = 1.0_rp
+      call self%phys%mech%set_time(t)
+      call self%phys%begin_step(1.0_rp)
+      call self%phys%assemble_stiffness(self%mesh, 1.0_rp, t)
+      call self%phys%take_solution(self%mesh)
+      call self%phys%begin_flow_step(self%wells, t, dt)
+      return
+    end if
     self%lf = t
     call self%phys%begin_step(t)
     call self%phys%assemble_stiffness(self%mesh, t)
@@ -262,6 +310,10 @@ contains
     call self%phys%sys%block_range(self%phys%bt, t0, t1)
     call self%phys%sys%a(self%phys%bu, self%phys%bu)%diagonal(self%dsc(u0:u1))
     call self%phys%ht_diagonal(self%mesh, 1.0_rp, .true., self%dsc(t0:t1))
+    if (self%flow) then
+      call self%phys%sys%block_range(self%phys%bp, u0, u1)
+      call self%phys%sys%a(self%phys%bp, self%phys%bp)%diagonal(self%dsc(u0:u1))
+    end if
     self%dsc = 1.0_rp / sqrt(abs(self%dsc))
   end subroutine scaling
 
@@ -276,7 +328,7 @@ contains
     type(error_status_t), intent(inout) :: status
     integer(gp) :: changed, n(3)
     integer(ip) :: u0, u1, t0, t1
-    real(rp) :: du, dt
+    real(rp) :: du, dt, dp
     character(len=msg_len) :: line
     associate (phys => self%phys, comm => self%comm)
       call phys%sys%block_range(phys%bu, u0, u1)
@@ -287,12 +339,21 @@ contains
       du = pnorm2(comm, self%dx(u0:u1)) / max(pnorm2(comm, phys%x(u0:u1)), tiny(1.0_rp))
       dt = pnorm2(comm, self%dx(t0:t1)) / max(pnorm2(comm, phys%x(t0:t1)), tiny(1.0_rp))
       n = phys%count_states(self%mesh)
+      dp = 0.0_rp
+      if (phys%flow) then
+        call phys%sys%block_range(phys%bp, t0, t1)
+        dp = pnorm2(comm, self%dx(t0:t1)) / max(pnorm2(comm, phys%x(t0:t1)), tiny(1.0_rp))
+      end if
     end associate
     write(line, '(a,i3,a,i5,a,es9.2,a,es9.2,a,i0,a,3(i0,a))') '  newton ', iteration, '  linear its ', linear_its, &
       '  |du|/|u| ', du, &
       '  |dt|/|t| ', dt, '  status changes ', changed, '  stick/slip/open ', n(1), '/', n(2), '/', n(3), ''
     call log%detail(line)
     converged = changed == 0 .and. (n(2) == 0 .or. (du <= self%ccfg%newton_tol .and. dt <= self%ccfg%newton_tol))
+    ! the cubic law makes the fluid nonlinear whatever the statuses
+    if (self%flow) converged = converged .and. du <= self%ccfg%newton_tol .and. dp <= self%ccfg%newton_tol
+    if (self%flow) write(line, '(a,es9.2)') '  |dp|/|p| ', dp
+    if (self%flow) call log%detail(line)
     why = ''
     if (.not. converged) write(why, '(a,i0,a,es9.2,a,es9.2)') 'last iteration: ', changed, &
       ' status changes, |du|/|u| ', du, ', |dt|/|t| ', dt
@@ -332,6 +393,13 @@ contains
     ! the output's status codes count from 0 (state_stick = 1, slip 2, open 3)
     if (status%ok()) call self%fout%write_step(out, self%mesh, self%phys%trac, self%phys%jump, self%phys%state - 1, &
                                                 self%phys%rot, self%phys%fric, self%phys%coh, status)
+    if (self%flow .and. status%ok()) then
+      associate (n => self%mesh%iface_map%n_owned)
+        call out%writer%cell_field('pressure', self%phys%p(1:n), status, self%fout%grid)
+        if (status%ok()) call out%writer%cell_field('aperture', self%phys%ff%aperture(1:n), status, self%fout%grid)
+        if (status%ok()) call out%writer%cell_field('area', self%phys%area(1:n), status, self%fout%grid)
+      end associate
+    end if
   end subroutine write_output
 
   !> Displacement and stress for the probes.
@@ -377,6 +445,13 @@ contains
     character(len=*), intent(out) :: line
     integer(gp) :: n(3)
     n = self%phys%count_states(self%mesh)
+    if (self%flow) then
+      write(line, '(a,i0,a,es10.3,a,i3,a,3(i0,a),a,es10.3,a,es10.3,a,f8.3,a,f8.3,a)') 'time step ', stats%step, &
+        '  t ', stats%t, ' s  newton ', stats%newton, '  stick/slip/open ', n(1), '/', n(2), '/', n(3), '', &
+        '  max slip ', max_slip(self), ' m  max p ', self%comm%max(maxval(self%phys%p(1:self%mesh%iface_map%n_owned))), &
+        ' Pa  setup ', stats%t_setup, ' s  solve ', stats%t_solve, ' s'
+      return
+    end if
     write(line, '(a,i0,a,i0,a,f6.3,a,i3,a,i5,a,3(i0,a),a,es10.3,a,f8.3,a,f8.3,a)') 'load step ', stats%step, '/', &
       stats%n_steps, '  load ', stats%t, '  newton ', stats%newton, '  linear its ', stats%linear_its, &
       '  stick/slip/open ', n(1), '/', n(2), '/', n(3), '', '  max slip ', max_slip(self), ' m  setup ', &
@@ -415,12 +490,19 @@ contains
     integer :: k, n
     call common_parameter_groups(self, common)
     n = size(common)
-    allocate(groups(n + size(self%faults) + 1))
+    allocate(groups(n + size(self%faults) + 1 + merge(1 + size(self%wells), 0, self%flow)))
     groups(1:n) = common
     do k = 1, size(self%faults)
       call self%faults(k)%describe(groups(n + k))
     end do
     call self%ccfg%describe(groups(n + size(self%faults) + 1))
+    if (self%flow) then
+      n = n + size(self%faults) + 1
+      call self%fcfg%describe(groups(n + 1))
+      do k = 1, size(self%wells)
+        call self%wells(k)%describe(groups(n + 1 + k))
+      end do
+    end if
   end subroutine parameter_groups
 
   !> Groups and variables of other physics, refused in this one's deck.
@@ -430,6 +512,7 @@ contains
     list = [character(len=foreign_len) :: 'biot', 'source', 'block_fsai', &
             'material%biot', 'material%biot_modulus', &
             'material%permeability', 'material%permeability_tensor', 'material%viscosity']
+    if (.not. self%flow) list = [list, [character(len=foreign_len) :: 'fracture_flow', 'well']]
   end subroutine foreign_inputs
   !> Every interface element must have a split node: one whose four nodes
   !> all lie on the fault's edge (a fault patch less than two elements

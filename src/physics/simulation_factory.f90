@@ -12,7 +12,7 @@ module simulation_factory
   public :: make_simulation, physics_names
 
   !> The valid names, for messages.
-  character(len=*), parameter :: physics_names = "'elasticity', 'biot', 'contact'"
+  character(len=*), parameter :: physics_names = "'elasticity', 'biot', 'contact', 'fracture_flow'"
 
 contains
 
@@ -33,6 +33,12 @@ contains
       allocate(biot_simulation_t :: sim)
     case ('contact')
       allocate(contact_simulation_t :: sim)
+    case ('fracture_flow')
+      allocate(contact_simulation_t :: sim)
+      select type (sim)
+      type is (contact_simulation_t)
+        sim%flow = .true.
+      end select
     case default
       call status%set("unknown physics '"//trim(name)//"' (valid: "//physics_names//")")
     end select

@@ -1,0 +1,183 @@
+!> Deck groups of the fluid in the fractures (physics = 'fracture_flow').
+!>
+!> &fracture_flow (optional group):
+!>   viscosity          fluid viscosity mu [Pa s], > 0                    [1e-3]
+!>   residual_aperture  hydraulic aperture a0 of a closed fracture [m], > 0:
+!>                      the aperture is a = max(g_N, 0) + a0, so that closed
+!>                      fractures still conduct                          [1e-5]
+!>   initial_pressure   fluid pressure in every fracture at the start [Pa]   [0]
+!>   compressibility    fluid compressibility c_f [1/Pa], >= 0: the storage
+!>                      A a c_f dp of an element; it fixes the pressure of a
+!>                      closed fracture, which the rock does not (water at
+!>                      20 C: 4.5e-10)                                 [4.5e-10]
+!>
+!> &well (any number; at least one or a fracture gets no fluid): a source of
+!> fluid into the fracture element whose centre is nearest to point.
+!>   name               name of the well (CSV column)                  [required]
+!>   point(3)           where the well meets the fracture [m]          [required]
+!>   rate               injection rate [m^3/s] (negative: production); with
+!>                      history, the rate is rate times the history's factor
+!>                      at the time                                    [required]
+!>   history            optional file of "time factor" rows (# comments),
+!>                      linear between rows, as in &boundary             ['']
+module flow_config
+  use kinds, only: rp, name_len, msg_len, path_len
+  use parallel_comm, only: parallel_comm_t
+  use error_status, only: error_status_t
+  use logger, only: logger_t
+  use deck, only: deck_t, line_len, unset_real
+  use strings, only: rtoa
+  use history_file, only: read_history, history_factor
+  use param_group, only: param_group_t
+  implicit none
+  private
+
+  public :: flow_config_t, well_config_t, read_wells, load_well_histories
+
+  type :: flow_config_t
+    real(rp) :: viscosity = 1.0e-3_rp              !< [Pa s]
+    real(rp) :: residual_aperture = 1.0e-5_rp      !< [m]
+    real(rp) :: initial_pressure = 0.0_rp          !< [Pa]
+    real(rp) :: compressibility = 4.5e-10_rp       !< [1/Pa]
+  contains
+    procedure :: read => read_flow_config
+    procedure :: describe => describe_flow_config
+  end type flow_config_t
+
+  type :: well_config_t
+    character(len=name_len) :: name = ''
+    real(rp) :: point(3) = 0.0_rp                  !< [m]
+    real(rp) :: rate = 0.0_rp                      !< [m^3/s]
+    character(len=path_len) :: history = ''
+    real(rp), allocatable :: hist_t(:), hist_f(:)
+  contains
+    procedure :: rate_at
+    procedure :: describe => describe_well
+  end type well_config_t
+
+contains
+
+  !> Read and check &fracture_flow.
+  subroutine read_flow_config(self, d, log, status)
+    class(flow_config_t), intent(inout) :: self
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(inout) :: log
+    type(error_status_t), intent(inout) :: status
+    real(rp) :: viscosity, residual_aperture, initial_pressure, compressibility
+    integer :: ios
+    character(len=msg_len) :: msg
+    character(len=line_len), allocatable :: b(:)
+    namelist /fracture_flow/ viscosity, residual_aperture, initial_pressure, compressibility
+    viscosity = self%viscosity; residual_aperture = self%residual_aperture; initial_pressure = self%initial_pressure
+    compressibility = self%compressibility
+    if (d%count('fracture_flow') > 1) then
+      call d%fail(status, 'fracture_flow', 2, 'fracture_flow', 'the group may appear once')
+      return
+    end if
+    if (d%count('fracture_flow') == 1) then
+      call d%block('fracture_flow', 1, b)
+      read(b, nml=fracture_flow, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call d%read_error('fracture_flow', 1, ios, msg, status)
+        return
+      end if
+    end if
+    if (.not. (viscosity > 0.0_rp)) call d%fail(status, 'fracture_flow', 1, 'viscosity', &
+      'must be > 0 (got '//rtoa(viscosity)//')')
+    if (.not. (residual_aperture > 0.0_rp .and. residual_aperture < 1.0_rp)) call d%fail(status, 'fracture_flow', &
+      1, 'residual_aperture', 'must lie in (0, 1) m (got '//rtoa(residual_aperture)//')')
+    if (.not. (compressibility >= 0.0_rp .and. compressibility < 1.0e-3_rp)) call d%fail(status, 'fracture_flow', &
+      1, 'compressibility', 'must lie in [0, 1e-3) 1/Pa (got '//rtoa(compressibility)//')')
+    if (.not. status%ok()) return
+    self%compressibility = compressibility
+    self%viscosity = viscosity
+    self%residual_aperture = residual_aperture
+    self%initial_pressure = initial_pressure
+  end subroutine read_flow_config
+
+  subroutine describe_flow_config(self, g)
+    class(flow_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: g
+    call g%init('fracture_flow')
+    call g%add('viscosity', self%viscosity, 'Pa s', 'fluid viscosity')
+    call g%add('residual_aperture', self%residual_aperture, 'm', 'hydraulic aperture of a closed fracture')
+    call g%add('initial_pressure', self%initial_pressure, 'Pa', 'fluid pressure in the fractures at the start')
+    call g%add('compressibility', self%compressibility, '1/Pa', 'fluid compressibility')
+  end subroutine describe_flow_config
+
+  !> Read and check every &well group (rank 0 reads the histories later,
+  !> load_well_histories).
+  subroutine read_wells(d, log, wells, status)
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(inout) :: log
+    type(well_config_t), allocatable, intent(out) :: wells(:)
+    type(error_status_t), intent(inout) :: status
+    character(len=name_len) :: name
+    real(rp) :: point(3), rate
+    character(len=path_len) :: history
+    integer :: k, j, ios
+    character(len=msg_len) :: msg
+    character(len=line_len), allocatable :: b(:)
+    namelist /well/ name, point, rate, history
+    allocate(wells(d%count('well')))
+    do k = 1, size(wells)
+      name = ''; point = unset_real; rate = unset_real; history = ''
+      call d%block('well', k, b)
+      read(b, nml=well, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call d%read_error('well', k, ios, msg, status)
+        return
+      end if
+      if (len_trim(name) == 0) call d%fail(status, 'well', k, 'name', 'required')
+      do j = 1, k - 1
+        if (wells(j)%name == name) call d%fail(status, 'well', k, 'name', "'"//trim(name)// &
+          "' is already the name of another &well (well names must be distinct)")
+      end do
+      if (any(point == unset_real)) call d%fail(status, 'well', k, 'point', 'required: three coordinates [m]')
+      if (rate == unset_real) call d%fail(status, 'well', k, 'rate', 'required [m^3/s]')
+      if (.not. status%ok()) return
+      wells(k)%name = name
+      wells(k)%point = point
+      wells(k)%rate = rate
+      call d%input_path('well', k, 'history', history, wells(k)%history, status)
+    end do
+  end subroutine read_wells
+
+  !> Rank 0 reads the wells' history files, every rank gets them. Collective.
+  subroutine load_well_histories(comm, wells, status)
+    type(parallel_comm_t), intent(in) :: comm
+    type(well_config_t), intent(inout) :: wells(:)
+    type(error_status_t), intent(inout) :: status
+    integer :: k
+    character(len=msg_len) :: msg
+    do k = 1, size(wells)
+      if (len_trim(wells(k)%history) == 0) cycle
+      call read_history(comm, wells(k)%history, wells(k)%hist_t, wells(k)%hist_f, msg)
+      if (len_trim(msg) > 0) then
+        call status%set("&well '"//trim(wells(k)%name)//"': history file '"//trim(wells(k)%history)//"': "// &
+                        trim(msg), 1)
+        return
+      end if
+    end do
+  end subroutine load_well_histories
+
+  !> The rate at time t [m^3/s].
+  real(rp) function rate_at(self, t)
+    class(well_config_t), intent(in) :: self
+    real(rp), intent(in) :: t
+    rate_at = self%rate
+    if (allocated(self%hist_t)) rate_at = self%rate * history_factor(self%hist_t, self%hist_f, t)
+  end function rate_at
+
+  subroutine describe_well(self, g)
+    class(well_config_t), intent(in) :: self
+    type(param_group_t), intent(out) :: g
+    call g%init('well')
+    call g%add('name', self%name, '-', 'name of the well')
+    call g%add('point(1)', self%point(1), 'm', 'where the well meets the fracture, x')
+    call g%add('point(2)', self%point(2), 'm', 'where the well meets the fracture, y')
+    call g%add('point(3)', self%point(3), 'm', 'where the well meets the fracture, z')
+    call g%add('rate', self%rate, 'm3/s', 'injection rate (times the history factor)')
+    call g%add('history', self%history, '-', "file of 'time factor' rows scaling the rate ('': none)")
+  end subroutine describe_well
+end module flow_config
