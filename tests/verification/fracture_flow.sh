@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Hydraulically active fracture (physics = 'fracture_flow', MUMPS) against
+# analytical results (tests/decks/flow_injection.nml):
+#  - mass balance: every step, change of fracture volume + compressibility
+#    storage = injected volume Q dt, to 1e-10 relative;
+#  - storage-dominated injection into a plane strain fracture: mean pressure
+#    at t = 1 s against Sneddon's volume, p = E Q t / (2 pi (1 - nu^2) b^2),
+#    within 3 % (h = b/20), the error falling from h = b/10;
+#  - 1 vs 2 ranks: pressure and opening to 1e-8.
+set -u
+cd "$(dirname "$0")/../.."
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+PY=${PYTHON:-/usr/bin/python3}
+out=build/test-out/fracture_flow
+rm -rf "$out"; mkdir -p "$out"
+pass=0; fail=0
+ok() { echo "  ok    $1"; pass=$((pass + 1)); }
+ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
+deck() {  # name, source deck, sed expressions
+  local name=$1 src=$2; shift 2
+  sed -e "s#dir = 'out'#dir = '$out'#" -e "s#prefix = '[a-z_]*'#prefix = '$name'#" "$@" "$src" > "$out/$name.nml"
+}
+run() {  # name, ranks
+  if timeout 600 mpirun --oversubscribe -np "$2" bin/geoblock "$out/$1.nml" > "$out/$1.stdout" 2>&1 < /dev/null; then
+    return 0
+  fi
+  ko "run $1 on $2 rank(s), see $out/$1.stdout"
+  return 1
+}
+check() {  # label, command...
+  local label=$1 r; shift
+  if r=$("$@" 2>&1); then ok "$label: $r"; else ko "$label: $r"; fi
+}
+Q=2.9452e-5
+deck inj2 tests/decks/flow_injection.nml
+deck inj1 tests/decks/flow_injection.nml
+deck coarse tests/decks/flow_injection.nml -e "s#nx = 110, ny = 80#nx = 80, ny = 60#" -e "s#core_n = 48, 10#core_n = 24, 6#"
+if run inj2 2; then
+  check "mass balance every step (1e-10)" $PY tests/verification/check_flow.py mass "$out/inj2" $Q 1e-10
+  check "injection pressure vs Sneddon's volume, h = b/20 (3 %)" $PY tests/verification/check_flow.py \
+    sneddon "$out/inj2" $Q 0.05 0.03
+  grep -q "stick/slip/open 0/0/40" "$out/inj2.log" && ok "the fracture opens (0/0/40)" || ko "the fracture does not open"
+fi
+run inj1 1 && check "1 vs 2 ranks (1e-8)" $PY tests/verification/check_flow.py same "$out/inj1" "$out/inj2" 1e-8
+if run coarse 2; then
+  e1=$($PY tests/verification/check_flow.py sneddon "$out/coarse" $Q 0.05 1 | sed -E 's/.*error ([0-9.e+-]+),.*/\1/')
+  e2=$($PY tests/verification/check_flow.py sneddon "$out/inj2" $Q 0.05 1 | sed -E 's/.*error ([0-9.e+-]+),.*/\1/')
+  if awk -v a="$e1" -v b="$e2" 'BEGIN {exit !(b < a)}'; then ok "the pressure error falls: h = b/10 $e1, h = b/20 $e2"
+  else ko "the pressure error does not fall: h = b/10 $e1, h = b/20 $e2"; fi
+fi
+echo "suite fracture_flow: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
