@@ -70,10 +70,6 @@ contains
     namelist /fracture_flow/ viscosity, residual_aperture, initial_pressure, compressibility
     viscosity = self%viscosity; residual_aperture = self%residual_aperture; initial_pressure = self%initial_pressure
     compressibility = self%compressibility
-    if (d%count('fracture_flow') > 1) then
-      call d%fail(status, 'fracture_flow', 2, 'fracture_flow', 'the group may appear once')
-      return
-    end if
     if (d%count('fracture_flow') == 1) then
       call d%block('fracture_flow', 1, b)
       read(b, nml=fracture_flow, iostat=ios, iomsg=msg)

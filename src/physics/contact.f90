@@ -416,6 +416,7 @@ contains
     self%p_step = self%p
     self%gn_step = self%jump(1, :)
     self%q_src = 0.0_rp
+    if (dt == 0.0_rp) return                       ! the equilibrium step 0: nothing flows
     do k = 1, size(wells)
       if (self%well_elem(k) > 0) self%q_src(self%well_elem(k)) = self%q_src(self%well_elem(k)) + wells(k)%rate_at(t)
     end do

@@ -22,7 +22,7 @@ module contact_simulation
   use flow_config, only: flow_config_t, well_config_t, read_wells, load_well_histories
   use dist_mesh, only: dist_mesh_t
   use field_output, only: field_output_t
-  use probe_fields, only: probe_fields_t
+  use probe_fields, only: probe_fields_t, scalar_name_len
   use fracture_output, only: fracture_output_t
   use contact, only: contact_t, state_open, state_slip
   use mesh_pieces, only: mesh_pieces_t
@@ -437,7 +437,51 @@ contains
       pf%values(2*f - 1) = self%comm%max(smax(f))
       pf%values(2*f) = area(f)
     end do
+    if (self%flow) call sample_wells(self, pf)
   end subroutine sample
+
+  !> Per well, the step's rate and the pressure of its element (the
+  !> bottom-hole pressure), and per fault the largest pressure and the fluid
+  !> volume it holds (sum of A g_N over its open elements). Collective.
+  subroutine sample_wells(self, pf)
+    type(contact_simulation_t), intent(inout) :: self
+    type(probe_fields_t), intent(inout) :: pf
+    character(len=scalar_name_len), allocatable :: names(:)
+    real(rp), allocatable :: values(:), pmax(:), vol(:)
+    integer :: k, nw, nf, f
+    integer(ip) :: e
+    nw = size(self%wells)
+    nf = size(self%mesh%fault_names)
+    allocate(names(2 * nw + 2 * nf), values(2 * nw + 2 * nf), pmax(nf), vol(nf))
+    do k = 1, nw
+      names(2*k - 1) = trim(self%wells(k)%name)//':rate [m3/s]'
+      names(2*k) = trim(self%wells(k)%name)//':pressure [Pa]'
+      values(2*k - 1) = 0.0_rp
+      values(2*k) = 0.0_rp
+      e = self%phys%well_elem(k)
+      if (e > 0) then
+        values(2*k - 1) = self%phys%q_src(e)
+        values(2*k) = self%phys%p(e)
+      end if
+    end do
+    pmax = -huge(1.0_rp)
+    vol = 0.0_rp
+    do e = 1, self%mesh%iface_map%n_owned
+      f = self%mesh%iface_fault(e)
+      pmax(f) = max(pmax(f), self%phys%p(e))
+      vol(f) = vol(f) + self%phys%area(e) * max(self%phys%jump(1, e), 0.0_rp)
+    end do
+    call self%comm%sum_all(values)
+    call self%comm%sum_all(vol)
+    do f = 1, nf
+      names(2*nw + 2*f - 1) = trim(self%mesh%fault_names(f))//':max_pressure [Pa]'
+      names(2*nw + 2*f) = trim(self%mesh%fault_names(f))//':fluid_volume [m3]'
+      values(2*nw + 2*f - 1) = self%comm%max(pmax(f))
+      values(2*nw + 2*f) = vol(f)
+    end do
+    pf%names = [pf%names, names]
+    pf%values = [pf%values, values]
+  end subroutine sample_wells
 
   subroutine report_step(self, stats, line)
     class(contact_simulation_t), intent(inout) :: self

@@ -8,7 +8,9 @@
 #     the first run had written up to step k (plus a residual row of a later
 #     step, as a run stopped past the checkpoint leaves). Every HDF5 dataset,
 #     the XDMF index and the residual history must equal the continuous
-#     run's bit for bit.
+#     run's bit for bit. Also fracture flow (6 time steps, injection that
+#     takes the fracture from stick through slip to open; elements open
+#     after the restart point).
 #  2. stop signals: a Biot run of many steps gets SIGTERM (sent to its ranks,
 #     as a batch system does) or SIGUSR1 (sent to mpirun, which forwards it);
 #     it must stop after the step with a checkpoint, exit 0 and say so, and
@@ -146,6 +148,40 @@ cat > "$out/contact.tpl" <<DECK
 /
 DECK
 
+cat > "$out/flow.tpl" <<DECK
+&run
+  physics = 'fracture_flow' @RUN@
+/
+&mesh
+  source = 'box', nx = 8, ny = 8, nz = 8, lower = 0.0, 0.0, 0.0, upper = 1.0, 1.0, 1.0
+/
+&fault
+  name = 'fault', normal_axis = 'z', position = 0.5, dip = 20.0, dip_axis = 'x'
+  lower = 0.25, 0.25, 0.0, upper = 0.75, 0.75, 0.0, friction_angle = 10.0
+/
+&material
+  region = 'domain', young = 1.0e10, poisson = 0.25
+/
+&boundary
+  set = 'zmin', type = 'displacement', ux = 0.0, uy = 0.0, uz = 0.0
+/
+&boundary
+  set = 'zmax', type = 'traction', traction = 4.0e6, 0.0, -1.0e7
+/
+&well
+  name = 'inj', point = 0.5, 0.5, 0.5, rate = 3.2e-9
+/
+&time
+  dt = 1.0, t_end = 6.0
+/
+&solver
+  method = 'mumps'
+/
+&output
+  dir = '@DIR@', prefix = 'ff' @OUT@
+/
+DECK
+
 # deck TEMPLATE DIR RUN OUT [TIME SOLVER] > deck
 deck() {
   sed -e "s#@DIR@#$2#" -e "s#@RUN@#$3#" -e "s#@OUT@#$4#" -e "s#@TIME@#${5:-}#" -e "s#@SOLVER@#${6:-}#" "$1"
@@ -205,6 +241,15 @@ for np in 1 2; do
   restart_case elasticity "$np" "$out/elasticity.tpl" el 3
   restart_case biot "$np" "$out/biot.tpl" biot 4 "$biot_time" "$biot_solver"
   restart_case contact "$np" "$out/contact.tpl" ct 3
+  # fracture flow: injection after the checkpoint opens elements (step 5)
+  restart_case flow "$np" "$out/flow.tpl" ff 4
+  st=$(grep -E "^time step (4|5) " "$out/flow-np$np/continuous.stdout" | sed -E 's#.*stick/slip/open ([0-9/]+).*#\1#' | paste -sd' ')
+  set -- $st
+  if [ $# -eq 2 ] && [ "${1##*/}" = 0 ] && [ "${2##*/}" != 0 ]; then
+    ok "flow on $np rank(s): elements open after the restart point ($1 -> $2)"
+  else
+    ko "flow on $np rank(s): no opening after the restart point ($st)"
+  fi
   # the restart point must come before a status change for the test to mean something
   st=$(grep -E "^load step (3|5)/5" "$out/contact-np$np/continuous.stdout" | sed -E 's#.*stick/slip/open ([0-9/]+).*#\1#' | paste -sd' ')
   set -- $st
