@@ -6,6 +6,11 @@
     check_flow.py sneddon RUN Q LZ TOL  mean pressure at the last step against
                                       E (Q/LZ) t / (2 pi (1 - nu^2) b^2)
     check_flow.py same RUN1 RUN2 TOL  pressure and opening of two runs (by element centre)
+    check_flow.py onset RUN TOL       the pressure at which the fault 'fault' starts to slip
+                                      (probes CSV: between the last all-stick step and the
+                                      first slipping one) against sigma_n - tau / tan(phi)
+                                      for the homogeneous stress of the deck's tractions; the
+                                      fault 'far' keeps its initial pressure (to 1e-10), no slip, no fluid (1e-15 m3)
 RUN is the output directory plus prefix. Prints one line; exit 1 on a failure.
 """
 import os
@@ -71,6 +76,44 @@ def same(a, b, tol):
     return max(dp, dg) <= tol
 
 
+def onset(path, tol):
+    import csv
+    run = load(path)
+    par = run.parameters()
+    sig = np.zeros(3)
+    for b in par["boundary"]:
+        if b.get("type") == "traction":
+            t = np.asarray(b["traction"], dtype=float)
+            k = int(np.argmax(np.abs(t)))
+            sig[k] = t[k]                               # the max faces carry sigma_kk
+    fault = [f for f in par["fault"] if f["name"] == "fault"][0]
+    dip = np.radians(float(fault["dip"]))
+    n = np.array([-np.sin(dip), 0.0, np.cos(dip)])      # normal z, dipping along x
+    tv = sig * n
+    sn = -float(tv @ n)                                 # compression positive
+    tau = float(np.linalg.norm(tv - (tv @ n) * n))
+    exact = sn - tau / np.tan(np.radians(float(fault["friction_angle"])))
+    with open(path + "_probes.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    area = [float(r["fault:slip_area [m2]"]) for r in rows]
+    pres = [float(r["fault:max_pressure [Pa]"]) for r in rows]
+    first = next((i for i, a in enumerate(area) if a > 0.0), None)
+    if first is None or first == 0:
+        print(f"onset: no onset of slip (exact {exact:.4e} Pa)")
+        return False
+    lo, hi = pres[first - 1], pres[first]
+    mid = 0.5 * (lo + hi)
+    err = abs(mid - exact) / exact
+    far_p = max(abs(float(r["far:max_pressure [Pa]"])) for r in rows)
+    far_v = max(abs(float(r["far:fluid_volume [m3]"])) for r in rows)
+    far_s = max(float(r["far:slip_area [m2]"]) for r in rows)
+    print(f"onset: sigma_n {sn:.4e} Pa, tau {tau:.4e} Pa, exact {exact:.4e} Pa; slip starts between "
+          f"{lo:.4e} and {hi:.4e} Pa (step {first}), error of the midpoint {err:.2e}; far fracture: "
+          f"largest pressure {far_p:.1e} Pa, fluid volume {far_v:.1e} m3, slip area {far_s:.1e} m2")
+    # the far fracture: round-off only (its stick rows let through jumps of 1e-19 m)
+    return lo < exact <= hi and err <= tol and far_p <= 1e-10 * exact and far_v <= 1e-15 and far_s == 0.0
+
+
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] in ("-h", "--help"):
         print(__doc__)
@@ -80,6 +123,8 @@ if __name__ == "__main__":
         ok = mass(args[0], float(args[1]), float(args[2]))
     elif cmd == "sneddon":
         ok = sneddon(args[0], float(args[1]), float(args[2]), float(args[3]))
+    elif cmd == "onset":
+        ok = onset(args[0], float(args[1]))
     elif cmd == "same":
         ok = same(args[0], args[1], float(args[2]))
     else:

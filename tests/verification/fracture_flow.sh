@@ -6,7 +6,11 @@
 #  - storage-dominated injection into a plane strain fracture: mean pressure
 #    at t = 1 s against Sneddon's volume, p = E Q t / (2 pi (1 - nu^2) b^2),
 #    within 3 % (h = b/20), the error falling from h = b/10;
-#  - 1 vs 2 ranks: pressure and opening to 1e-8.
+#  - 1 vs 2 ranks: pressure and opening to 1e-8;
+#  - slip onset under a rising pressure (tests/decks/flow_onset.nml): between
+#    the last all-stick step and the first slipping one, around
+#    sigma_n - tau / tan(phi) for the homogeneous stress (midpoint within 2 %);
+#    a second fracture, not connected, keeps its pressure and holds no fluid.
 set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -48,5 +52,9 @@ if run coarse 2; then
   if awk -v a="$e1" -v b="$e2" 'BEGIN {exit !(b < a)}'; then ok "the pressure error falls: h = b/10 $e1, h = b/20 $e2"
   else ko "the pressure error does not fall: h = b/10 $e1, h = b/20 $e2"; fi
 fi
+# slip onset under rising pressure, a fracture far from the well stays closed
+deck onset tests/decks/flow_onset.nml
+run onset 2 && check "slip onset at sigma_n - tau / tan(phi) (2 %), the far fracture dry" $PY \
+  tests/verification/check_flow.py onset "$out/onset" 0.02
 echo "suite fracture_flow: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
