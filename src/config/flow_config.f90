@@ -10,6 +10,8 @@
 !>                      A a c_f dp of an element; it fixes the pressure of a
 !>                      closed fracture, which the rock does not (water at
 !>                      20 C: 4.5e-10)                                 [4.5e-10]
+!>   pressure_precon    method = 'fgmres': preconditioner of the pressure's
+!>                      Schur complement S_p, 'boomeramg' or 'jacobi' ['boomeramg']
 !>
 !> &well (any number; at least one or a fracture gets no fluid): a source of
 !> fluid into the fracture element whose centre is nearest to point.
@@ -39,6 +41,7 @@ module flow_config
     real(rp) :: residual_aperture = 1.0e-5_rp      !< [m]
     real(rp) :: initial_pressure = 0.0_rp          !< [Pa]
     real(rp) :: compressibility = 4.5e-10_rp       !< [1/Pa]
+    character(len=name_len) :: pressure_precon = 'boomeramg'
   contains
     procedure :: read => read_flow_config
     procedure :: describe => describe_flow_config
@@ -64,12 +67,13 @@ contains
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     real(rp) :: viscosity, residual_aperture, initial_pressure, compressibility
+    character(len=name_len) :: pressure_precon
     integer :: ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    namelist /fracture_flow/ viscosity, residual_aperture, initial_pressure, compressibility
+    namelist /fracture_flow/ viscosity, residual_aperture, initial_pressure, compressibility, pressure_precon
     viscosity = self%viscosity; residual_aperture = self%residual_aperture; initial_pressure = self%initial_pressure
-    compressibility = self%compressibility
+    compressibility = self%compressibility; pressure_precon = self%pressure_precon
     if (d%count('fracture_flow') == 1) then
       call d%block('fracture_flow', 1, b)
       read(b, nml=fracture_flow, iostat=ios, iomsg=msg)
@@ -84,8 +88,11 @@ contains
       1, 'residual_aperture', 'must lie in (0, 1) m (got '//rtoa(residual_aperture)//')')
     if (.not. (compressibility >= 0.0_rp .and. compressibility < 1.0e-3_rp)) call d%fail(status, 'fracture_flow', &
       1, 'compressibility', 'must lie in [0, 1e-3) 1/Pa (got '//rtoa(compressibility)//')')
+    if (pressure_precon /= 'boomeramg' .and. pressure_precon /= 'jacobi') call d%fail(status, 'fracture_flow', 1, &
+      'pressure_precon', "must be 'boomeramg' or 'jacobi' (got '"//trim(pressure_precon)//"')")
     if (.not. status%ok()) return
     self%compressibility = compressibility
+    self%pressure_precon = pressure_precon
     self%viscosity = viscosity
     self%residual_aperture = residual_aperture
     self%initial_pressure = initial_pressure
@@ -99,6 +106,7 @@ contains
     call g%add('residual_aperture', self%residual_aperture, 'm', 'hydraulic aperture of a closed fracture')
     call g%add('initial_pressure', self%initial_pressure, 'Pa', 'fluid pressure in the fractures at the start')
     call g%add('compressibility', self%compressibility, '1/Pa', 'fluid compressibility')
+    call g%add('pressure_precon', self%pressure_precon, '-', "FGMRES: 'boomeramg' or 'jacobi' for S_p")
   end subroutine describe_flow_config
 
   !> Read and check every &well group (rank 0 reads the histories later,

@@ -15,6 +15,16 @@
 !>   augmented  the same with H~ = D, the augmentation diagonal (the row
 !>              scales s of contact), for the unstabilized saddle point.
 !>
+!> With the fluid in the fractures (physics 'fracture_flow', blocks t, u, p)
+!> the reordered preconditioner gets the seed's second level: the (t, u)
+!> block A_cm is the first level as above, and the pressure's Schur
+!> complement S_p = A_pp - A_pu diag(S*)^-1 A_up uses the diagonal of the
+!> first level's S* in place of A_cm^-1 (the seed's "second Schur complement
+!> from the diagonal of the first"; A_tp = A_pt = 0, so only the u part of
+!> A_cm^-1 enters); S_p by BoomerAMG or Jacobi (&fracture_flow
+!> pressure_precon). In the framework: F(u,p) = -S*^-1 A_up and
+!> G(p,u) = -A_pu S*^-1, implicit with the u block's AMG.
+!>
 !> K does not change during a run: its AMG (classical) and its global copy
 !> for the products are made once; the Schur parts are rebuilt at every
 !> Newton iteration, because C2 and the (t,t) block follow the statuses.
@@ -43,6 +53,9 @@ module contact_precon
     type(block_precon_t) :: bp
     type(csr_matrix_t) :: s                      !< S* (reordered, augmented) or -S (classical)
     type(global_csr_t) :: gk, gc1                !< K and C1 (classical: diag(K)^-1 C1)
+    type(csr_matrix_t) :: sp                     !< S_p, the pressure's Schur complement (flow)
+    type(global_csr_t) :: gup                    !< A_up = Q1 (flow, constant)
+    integer(gp) :: nnz_pressure = 0              !< non-zeros of the last S_p
     character(len=name_len) :: variant = ''
     logical :: ready = .false.
     real(rp) :: t_setup = 0.0_rp                 !< seconds of the last set-up
@@ -57,13 +70,14 @@ contains
   !> Set up (first call) or refresh (later calls: the Schur part) for the
   !> current Jacobian of phys. amg: elasticity settings (for K and S*).
   !> Collective.
-  subroutine setup(self, phys, mesh, ccfg, amg, status)
+  subroutine setup(self, phys, mesh, ccfg, amg, status, pressure_precon)
     class(contact_precon_t), intent(inout), target :: self
     type(contact_t), intent(inout), target :: phys
     type(dist_mesh_t), intent(in) :: mesh
     type(contact_config_t), intent(in) :: ccfg
     type(amg_params_t), intent(in) :: amg
     type(error_status_t), intent(inout) :: status
+    character(len=*), intent(in), optional :: pressure_precon   !< flow: 'boomeramg' or 'jacobi' for S_p
     class(precon_t), allocatable :: p
     type(precon_params_t) :: params
     real(rp) :: t0
@@ -83,6 +97,11 @@ contains
         call from_csr(phys%sys%a(phys%bu, phys%bu), self%gk)
         call self%bp%set_implicit(phys%bt, phys%bu, phys%bt)
         call self%bp%set_implicit(phys%bu, phys%bt, phys%bt)
+        if (phys%flow) then
+          call from_csr(phys%sys%a(phys%bu, phys%bp), self%gup)
+          call self%bp%set_implicit(phys%bu, phys%bp, phys%bu)
+          call self%bp%set_implicit(phys%bp, phys%bu, phys%bu)
+        end if
       end if
       self%ready = .true.
     end if
@@ -90,6 +109,7 @@ contains
       call classical_schur(self, phys, ccfg, amg, status)
     else
       call reordered_schur(self, phys, mesh, ccfg, amg, status)
+      if (status%ok() .and. phys%flow) call pressure_schur(self, phys, amg, pressure_precon, status)
     end if
     self%t_setup = wall_time() - t0
   end subroutine setup
@@ -169,6 +189,33 @@ contains
     call replace(self%bp%s(phys%bu)%p, p)
   end subroutine reordered_schur
 
+  !> S_p = A_pp - A_pu diag(S*)^-1 A_up and its preconditioner, in S_3.
+  subroutine pressure_schur(self, phys, amg, choice, status)
+    type(contact_precon_t), intent(inout), target :: self
+    type(contact_t), intent(inout), target :: phys
+    type(amg_params_t), intent(in) :: amg
+    character(len=*), intent(in) :: choice
+    type(error_status_t), intent(inout) :: status
+    type(global_csr_t) :: gup_d, gpu, gpp, prod, sp
+    class(precon_t), allocatable :: p
+    type(precon_params_t) :: params
+    gup_d = self%gup
+    call scale_rows_by_diagonal(self%s, gup_d)
+    call from_csr(phys%sys%a(phys%bp, phys%bu), gpu)
+    call from_csr(phys%sys%a(phys%bp, phys%bp), gpp)
+    call gcsr_multiply(gpu, gup_d, prod)
+    call gcsr_add(1.0_rp, gpp, -1.0_rp, prod, sp)
+    call self%sp%free()
+    call to_csr(sp, phys%pd%map, self%sp)
+    self%nnz_pressure = self%sp%global_nnz()
+    params%amg = amg
+    params%amg%num_functions = 1
+    params%amg%strong_threshold = 0.25_rp
+    call make_and_setup(choice, p, self%sp, params, status)
+    if (.not. status%ok()) return
+    call replace(self%bp%s(phys%bp)%p, p)
+  end subroutine pressure_schur
+
   !> Rows of g divided by the diagonal of k (same row space).
   subroutine scale_rows_by_diagonal(k, g)
     type(csr_matrix_t), intent(in) :: k
@@ -212,6 +259,8 @@ contains
     call self%s%free()
     call self%gk%free()
     call self%gc1%free()
+    call self%sp%free()
+    call self%gup%free()
     self%ready = .false.
     self%variant = ''
   end subroutine free

@@ -130,9 +130,9 @@ contains
         return
       end if
     end do
-    if (self%solver%method /= 'mumps') call status%set("deck '"//trim(d%path)//"', group &solver, variable "// &
-      "method: physics = 'fracture_flow' is solved by 'mumps' for now (the u-t-p block preconditioner is "// &
-      "not built yet)")
+    if (self%solver%method /= 'mumps' .and. self%ccfg%block /= 'reordered') call status%set("deck '"// &
+      trim(d%path)//"', group &contact, variable block: physics = 'fracture_flow' has the 'reordered' block "// &
+      "preconditioner (with the pressure's Schur complement as its second level), or method = 'mumps'")
   end subroutine read_flow_groups
 
   !> Split nodes, tractions, patterns and the stabilization; the rigid-body
@@ -156,7 +156,7 @@ contains
     end if
     if (self%flow) then
       call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
-                          .false., status, self%fcfg, self%wells)
+                          self%solver%method /= 'mumps', status, self%fcfg, self%wells)
     else
       call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
                           self%solver%method /= 'mumps' .and. self%ccfg%block /= 'classical', status)
@@ -240,7 +240,7 @@ contains
       return
     end if
     t0 = wall_time()
-    call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status)
+    call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon)
     call agree(self%comm, status)
     if (.not. status%ok()) then
       status%msg = 'preconditioner set-up: '//trim(status%msg)

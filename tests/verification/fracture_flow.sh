@@ -10,7 +10,10 @@
 #  - slip onset under a rising pressure (tests/decks/flow_onset.nml): between
 #    the last all-stick step and the first slipping one, around
 #    sigma_n - tau / tan(phi) for the homogeneous stress (midpoint within 2 %);
-#    a second fracture, not connected, keeps its pressure and holds no fluid.
+#    a second fracture, not connected, keeps its pressure and holds no fluid;
+#  - stick -> slip -> open under injection (tests/decks/flow_states.nml): all
+#    three statuses met; FGMRES with the u-t-p block preconditioner (S_p by
+#    BoomerAMG, by Jacobi) gives MUMPS's pressure and opening to 1e-6.
 set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -56,5 +59,25 @@ fi
 deck onset tests/decks/flow_onset.nml
 run onset 2 && check "slip onset at sigma_n - tau / tan(phi) (2 %), the far fracture dry" $PY \
   tests/verification/check_flow.py onset "$out/onset" 0.02
+# stick -> slip -> open under injection: MUMPS against FGMRES with the u-t-p
+# block preconditioner (S_p by BoomerAMG, by Jacobi)
+deck states_mumps tests/decks/flow_states.nml
+if run states_mumps 2; then
+  st=$(grep -E "^time step" "$out/states_mumps.log" | sed -E 's#.*stick/slip/open ([0-9/]+).*#\1#' | paste -sd' ')
+  if grep -q "/[1-9][0-9]*/0" <<< "$st" && grep -q "/[1-9][0-9]*$" <<< "$(tr ' ' '\n' <<< "$st" | tail -1)"; then
+    ok "stick, slip and open all met: $st"
+  else
+    ko "not every status met: $st"
+  fi
+  for sp in boomeramg jacobi; do
+    deck "states_$sp" tests/decks/flow_states.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
+    printf "&fracture_flow\n  pressure_precon = '%s'\n/\n" "$sp" >> "$out/states_$sp.nml"
+    if run "states_$sp" 2; then
+      its=$(grep "linear its" "$out/states_$sp.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
+      check "FGMRES + u-t-p block preconditioner, S_p by $sp, vs MUMPS (1e-6; largest count $its)" $PY \
+        tests/verification/check_flow.py same "$out/states_mumps" "$out/states_$sp" 1e-6
+    fi
+  done
+fi
 echo "suite fracture_flow: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
