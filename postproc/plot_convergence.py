@@ -1,9 +1,11 @@
 """Plot the residual history of every linear solve of a geoblock run.
 
-usage: /usr/bin/python3 postproc/plot_convergence.py [DIR] [PREFIX] [OUT.png]
+usage: /usr/bin/python3 postproc/plot_convergence.py [--step N] [DIR] [PREFIX] [OUT.png]
 Reads DIR/PREFIX_residuals.csv (step, time, newton, iteration, relative
 residual), written by every run; one curve per linear solve (a step's Newton
-iterations each have one), coloured by step."""
+iterations each have one), coloured by step. With --step N only the solves of
+step N, coloured by Newton iteration: the seed's "convergence profiles for
+all the linear systems in one time step" (e.g. of a fracture_flow run)."""
 import argparse
 import os
 import sys
@@ -22,6 +24,7 @@ def main():
     ap.add_argument("dir", nargs="?", default="out", help="output directory of the run (default out)")
     ap.add_argument("prefix", nargs="?", default="mandel", help="output prefix of the run (default mandel)")
     ap.add_argument("png", nargs="?", help="figure file (default DIR/PREFIX_convergence.png)")
+    ap.add_argument("--step", type=int, help="only the linear solves of this step")
     args = ap.parse_args()
     d, prefix = args.dir, args.prefix
     png = args.png or os.path.join(d, prefix + "_convergence.png")
@@ -33,20 +36,30 @@ def main():
         raise ValueError(f"{csv} is not a geoblock residual history")
     fig, ax = plt.subplots(figsize=(6, 4.2))
     steps = np.unique(data["step"]).astype(int)
+    if args.step is not None:
+        if args.step not in steps:
+            raise ValueError(f"step {args.step} has no Krylov solve in {csv} (steps {steps.min()} to {steps.max()})")
+        steps = np.array([args.step])
     cmap = plt.get_cmap("viridis")
     newton = data["newton"] if "newton" in data.dtype.names else np.ones(len(data))
     n_solves = 0
     for k, s in enumerate(steps):
-        for it in np.unique(newton[data["step"] == s]):
+        its = np.unique(newton[data["step"] == s])
+        for j, it in enumerate(its):
             sel = (data["step"] == s) & (newton == it)
             if sel.sum() < 2:
                 continue
             n_solves += 1
-            ax.semilogy(data["iteration"][sel], data["relative_residual"][sel], "-", lw=0.8,
-                        color=cmap(k / max(len(steps) - 1, 1)))
+            c = j / max(len(its) - 1, 1) if args.step is not None else k / max(len(steps) - 1, 1)
+            ax.semilogy(data["iteration"][sel], data["relative_residual"][sel], "-", lw=0.8, color=cmap(c),
+                        label=f"Newton {int(it)}" if args.step is not None else None)
     ax.set_xlabel("Krylov iteration")
     ax.set_ylabel("relative residual (scaled system)")
-    ax.set_title(f"{prefix}: {n_solves} solves in {len(steps)} steps (colour: step)")
+    if args.step is not None:
+        ax.set_title(f"{prefix}: the {n_solves} linear systems of step {args.step}")
+        ax.legend(fontsize=7)
+    else:
+        ax.set_title(f"{prefix}: {n_solves} solves in {len(steps)} steps (colour: step)")
     fig.tight_layout()
     fig.savefig(png, dpi=120)
     print(png)

@@ -76,6 +76,8 @@ if run states_mumps 2; then
       its=$(grep "linear its" "$out/states_$sp.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
       check "FGMRES + u-t-p block preconditioner, S_p by $sp, vs MUMPS (1e-6; largest count $its)" $PY \
         tests/verification/check_flow.py same "$out/states_mumps" "$out/states_$sp" 1e-6
+      [ "$sp" = boomeramg ] && check "convergence profiles of the linear systems of step 5 (seed's figure)" \
+        $PY postproc/plot_convergence.py --step 5 "$out" "states_$sp" "$out/states_step5.png"
     fi
   done
 fi
