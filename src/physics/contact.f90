@@ -37,6 +37,12 @@
 !> Newton's method works on increments: the prescribed displacements are
 !> imposed at the start of every load step, so the Jacobian's columns of
 !> prescribed dofs are zero.
+!>
+!> With the fluid (init with fcfg: physics 'fracture_flow') a third block p
+!> holds one pressure per element: the faces carry t - p n (Q1 = -C1 normal,
+!> t stays the effective traction of the contact conditions) and the mass
+!> rows of assemble_mass_rows close the system (fracture_flow.f90 for the
+!> cubic-law transmissibilities).
 module contact
   use kinds, only: rp, ip, gp, msg_len
   use parallel_comm, only: parallel_comm_t
