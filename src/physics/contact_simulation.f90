@@ -398,6 +398,8 @@ contains
         call out%writer%cell_field('pressure', self%phys%p(1:n), status, self%fout%grid)
         if (status%ok()) call out%writer%cell_field('aperture', self%phys%ff%aperture(1:n), status, self%fout%grid)
         if (status%ok()) call out%writer%cell_field('area', self%phys%area(1:n), status, self%fout%grid)
+        if (status%ok()) call out%writer%cell_field('flux', &
+          norm2(self%phys%ff%element_flux(self%mesh, self%phys%edges, self%phys%p), dim=1), status, self%fout%grid)
       end associate
     end if
   end subroutine write_output

@@ -41,6 +41,7 @@ module fracture_flow
     procedure :: pattern
     procedure :: assemble_t
     procedure :: edge_fluxes
+    procedure :: element_flux
     procedure :: free
   end type fracture_flow_t
 
@@ -147,6 +148,43 @@ contains
     real(rp) :: q(edges%n)
     q = self%trans * (p(edges%pair(1, :)) - p(edges%pair(2, :)))
   end function edge_fluxes
+
+  !> The flow vector of every owned element [m^2/s] (volume flux per unit
+  !> width of the fracture): the lowest-order reconstruction from its edge
+  !> fluxes, v = sum over its edges of q_out (x_edge - x_centre) / A, exact
+  !> for a uniform flow on a parallelogram when every edge's flux is known
+  !> (an edge at a tip or junction carries none).
+  function element_flux(self, mesh, edges, p) result(v)
+    class(fracture_flow_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    type(fault_edges_t), intent(in) :: edges
+    real(rp), intent(in) :: p(:)
+    real(rp), allocatable :: v(:,:)
+    real(rp) :: q(edges%n), x(3, 4), c(3), m(3), area
+    integer(ip) :: e, k, ed
+    integer :: s
+    allocate(v(3, mesh%iface_map%n_owned))
+    q = self%edge_fluxes(edges, p)
+    do e = 1, mesh%iface_map%n_owned
+      x = mesh%coords(:, mesh%iface_nodes(:, 1, e))
+      c = sum(x, dim=2) / 4.0_rp
+      area = 0.5_rp * norm2(cross3(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2)))
+      v(:, e) = 0.0_rp
+      do k = 1, 4
+        ed = edges%of_elem(k, e)
+        if (ed == 0) cycle
+        s = merge(1, -1, edges%pair(1, ed) == e)          ! q is from pair(1) to pair(2)
+        m = 0.5_rp * (x(:, k) + x(:, mod(k, 4) + 1))
+        v(:, e) = v(:, e) + s * q(ed) * (m - c) / area
+      end do
+    end do
+  contains
+    pure function cross3(a, b) result(w)
+      real(rp), intent(in) :: a(3), b(3)
+      real(rp) :: w(3)
+      w = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+    end function cross3
+  end function element_flux
 
   subroutine free(self)
     class(fracture_flow_t), intent(inout) :: self

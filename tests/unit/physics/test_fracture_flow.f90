@@ -37,7 +37,7 @@ program test_fracture_flow
   type(fracture_flow_t) :: flow
   type(csr_matrix_t) :: tmat
   integer(ip), allocatable :: row_ptr(:), col(:)
-  real(rp), allocatable :: p(:), tp(:), ones(:), q(:), yc(:), zc(:)
+  real(rp), allocatable :: p(:), tp(:), ones(:), q(:), yc(:), zc(:), vflux(:,:)
   real(rp), parameter :: mu = 2.0e-3_rp, a = 1.0e-4_rp, a0 = 1.0e-5_rp, grad = 3.0e5_rp, p0 = 1.0e7_rp
   character(len=64) :: tmp_deck
   real(rp) :: half, expect, worst, worst_z, t, dt(2), tp_, tm_, fd, total, scale, end_flux
@@ -110,6 +110,24 @@ program test_fracture_flow
                           'a^3 L G / (12 mu), so the width w = 0.5 carries w a^3 dp / (12 mu L)')
   call suite%assert_close(worst_z, 0.0_rp, 1.0e-12_rp, 'cubic law: no flow along the contour lines')
   call suite%assert_true(ok, 'cubic law: the flow goes down the gradient')
+
+  ! ---- the element flow vectors: interior elements carry a^3 G / (12 mu) along -y exactly; the
+  ! ---- end elements (a fracture edge without flux on one side) half of it
+  vflux = flow%element_flux(dm, edges, p)
+  worst = 0.0_rp
+  ok = .true.
+  do e = 1, nown
+    if (yc(e) > 0.125_rp + 1.0e-12_rp .and. yc(e) < 1.875_rp - 1.0e-12_rp) then
+      worst = max(worst, norm2(vflux(:, e) - [0.0_rp, grad * a**3 / (12.0_rp * mu), 0.0_rp]) / &
+                         (grad * a**3 / (12.0_rp * mu)))
+    else
+      ok = ok .and. abs(norm2(vflux(:, e)) - 0.5_rp * grad * a**3 / (12.0_rp * mu)) <= 1.0e-12_rp * grad * a**3 / mu
+    end if
+  end do
+  call suite%assert_close(comm%max(worst), 0.0_rp, 1.0e-12_rp, 'element flow vectors: a^3 G / (12 mu) along '// &
+                          'the gradient in the interior (per unit width)')
+  call suite%assert_true(.not. comm%any_true(.not. ok), 'element flow vectors: half of it at the ends (no flux '// &
+                         'through the fracture''s edge)')
 
   ! ---- T: conservation --------------------------------------------------------------------------
   call flow%pattern(dm, edges, row_ptr, col)
