@@ -22,6 +22,14 @@
 !>                      at the time                                    [required]
 !>   history            optional file of "time factor" rows (# comments),
 !>                      linear between rows, as in &boundary             ['']
+!>
+!> &fracture_pressure (any number): a prescribed fluid pressure on the
+!> elements of a fault whose centres lie within [lower, upper].
+!>   fault              name of the fault                              [required]
+!>   lower(3), upper(3) the box of the element centres [m]         [the whole space]
+!>   value              pressure [Pa]; with history, times the history's factor
+!>                      at the time                                    [required]
+!>   history            optional file of "time factor" rows               ['']
 module flow_config
   use kinds, only: rp, name_len, msg_len, path_len
   use parallel_comm, only: parallel_comm_t
@@ -35,6 +43,7 @@ module flow_config
   private
 
   public :: flow_config_t, well_config_t, read_wells, load_well_histories
+  public :: pressure_bc_t, read_pressure_bcs
 
   type :: flow_config_t
     real(rp) :: viscosity = 1.0e-3_rp              !< [Pa s]
@@ -58,7 +67,104 @@ module flow_config
     procedure :: describe => describe_well
   end type well_config_t
 
+  type :: pressure_bc_t
+    character(len=name_len) :: fault = ''
+    real(rp) :: lower(3) = -huge(1.0_rp), upper(3) = huge(1.0_rp)   !< [m]
+    real(rp) :: value = 0.0_rp                     !< [Pa]
+    type(well_config_t) :: shape                   !< the history (its rate is 1)
+  contains
+    procedure :: value_at => pbc_value_at
+    procedure :: describe => describe_pressure_bc
+  end type pressure_bc_t
+
 contains
+
+  !> Read and check every &fracture_pressure group and load its history
+  !> (rank 0 reads, every rank gets it). Collective.
+  subroutine read_pressure_bcs(comm, d, log, faults, bcs, status)
+    type(parallel_comm_t), intent(in) :: comm
+    type(deck_t), intent(in) :: d
+    type(logger_t), intent(inout) :: log
+    character(len=*), intent(in) :: faults(:)
+    type(pressure_bc_t), allocatable, intent(out) :: bcs(:)
+    type(error_status_t), intent(inout) :: status
+    character(len=name_len) :: fault
+    real(rp) :: lower(3), upper(3), value
+    character(len=path_len) :: history
+    integer :: k, ios
+    character(len=msg_len) :: msg
+    character(len=line_len), allocatable :: b(:)
+    namelist /fracture_pressure/ fault, lower, upper, value, history
+    allocate(bcs(d%count('fracture_pressure')))
+    do k = 1, size(bcs)
+      fault = ''; lower = -huge(1.0_rp); upper = huge(1.0_rp); value = unset_real; history = ''
+      call d%block('fracture_pressure', k, b)
+      read(b, nml=fracture_pressure, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call d%read_error('fracture_pressure', k, ios, msg, status)
+        return
+      end if
+      if (.not. any(faults == fault)) call d%fail(status, 'fracture_pressure', k, 'fault', "'"//trim(fault)// &
+        "' is not the name of a &fault")
+      if (value == unset_real) call d%fail(status, 'fracture_pressure', k, 'value', 'required [Pa]')
+      if (any(upper < lower)) call d%fail(status, 'fracture_pressure', k, 'upper', 'must not be below lower')
+      if (.not. status%ok()) return
+      bcs(k)%fault = fault
+      bcs(k)%lower = lower
+      bcs(k)%upper = upper
+      bcs(k)%value = value
+      bcs(k)%shape%name = 'fracture_pressure'
+      bcs(k)%shape%rate = 1.0_rp
+      call d%input_path('fracture_pressure', k, 'history', history, bcs(k)%shape%history, status)
+      if (.not. status%ok()) return
+      if (len_trim(bcs(k)%shape%history) > 0) then
+        call read_history(comm, bcs(k)%shape%history, bcs(k)%shape%hist_t, bcs(k)%shape%hist_f, msg)
+        if (len_trim(msg) > 0) then
+          call status%set("&fracture_pressure number "//itoa_(k)//": history file '"// &
+                          trim(bcs(k)%shape%history)//"': "//trim(msg), 1)
+          return
+        end if
+      end if
+    end do
+  contains
+    function itoa_(i) result(t)
+      integer, intent(in) :: i
+      character(len=12) :: t
+      write(t, '(i0)') i
+    end function itoa_
+  end subroutine read_pressure_bcs
+
+  !> The prescribed pressure at time t [Pa].
+  real(rp) function pbc_value_at(self, t)
+    class(pressure_bc_t), intent(in) :: self
+    real(rp), intent(in) :: t
+    pbc_value_at = self%value * self%shape%rate_at(t)
+  end function pbc_value_at
+
+  subroutine describe_pressure_bc(self, g)
+    class(pressure_bc_t), intent(in) :: self
+    type(param_group_t), intent(out) :: g
+    character(len=12) :: v
+    integer :: i
+    call g%init('fracture_pressure')
+    call g%add('fault', self%fault, '-', 'the fault whose elements get the pressure')
+    do i = 1, 3
+      write(v, '(a,i0,a)') 'lower(', i, ')'
+      if (self%lower(i) > -huge(1.0_rp)) then
+        call g%add(trim(v), self%lower(i), 'm', 'lower bound of the element centres')
+      else
+        call g%add_unset(trim(v), '(none)', 'm', 'lower bound of the element centres')
+      end if
+      write(v, '(a,i0,a)') 'upper(', i, ')'
+      if (self%upper(i) < huge(1.0_rp)) then
+        call g%add(trim(v), self%upper(i), 'm', 'upper bound of the element centres')
+      else
+        call g%add_unset(trim(v), '(none)', 'm', 'upper bound of the element centres')
+      end if
+    end do
+    call g%add('value', self%value, 'Pa', 'prescribed fluid pressure (times the history factor)')
+    call g%add('history', self%shape%history, '-', "file of 'time factor' rows scaling the value ('': none)")
+  end subroutine describe_pressure_bc
 
   !> Read and check &fracture_flow.
   subroutine read_flow_config(self, d, log, status)

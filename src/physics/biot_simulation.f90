@@ -400,6 +400,6 @@ contains
   subroutine foreign_inputs(self, list)
     class(biot_simulation_t), intent(in) :: self
     character(len=foreign_len), allocatable, intent(out) :: list(:)
-    list = [character(len=foreign_len) :: 'fault', 'contact', 'fracture_flow', 'well']
+    list = [character(len=foreign_len) :: 'fault', 'contact', 'fracture_flow', 'well', 'fracture_pressure']
   end subroutine foreign_inputs
 end module biot_simulation

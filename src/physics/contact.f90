@@ -59,7 +59,7 @@ module contact
   use interface_element, only: interface_geometry
   use fault_edges, only: fault_edges_t
   use fracture_flow, only: fracture_flow_t
-  use flow_config, only: flow_config_t, well_config_t
+  use flow_config, only: flow_config_t, well_config_t, pressure_bc_t
   implicit none
   private
 
@@ -104,6 +104,8 @@ module contact
     real(rp), allocatable :: gn_step(:)            !< (n) normal jump at the step's start [m]
     real(rp), allocatable :: q_src(:)              !< (n) injected rate of the step [m^3/s]
     integer(ip), allocatable :: well_elem(:)       !< (wells) local owned element of each well, 0 elsewhere
+    integer, allocatable :: pfix(:)                !< (n) the &fracture_pressure of an element, 0: none
+    real(rp), allocatable :: p_fixed(:)            !< (n) its prescribed pressure in the step [Pa]
     real(rp) :: dt = 1.0_rp                        !< time step [s]
     real(rp) :: cf = 0.0_rp                        !< fluid compressibility [1/Pa]
   contains
@@ -125,7 +127,7 @@ contains
   !> Fields, patterns, geometry and stabilization of the faults of mesh.
   !> t_first puts the tractions in block 1 (the reordered preconditioner).
   !> Collective.
-  subroutine init(self, mesh, mats, bcs, faults, stabilized, t_first, status, fcfg, wells)
+  subroutine init(self, mesh, mats, bcs, faults, stabilized, t_first, status, fcfg, wells, pbcs)
     class(contact_t), intent(inout), target :: self
     type(dist_mesh_t), intent(in) :: mesh
     type(material_config_t), intent(in) :: mats(:)
@@ -135,6 +137,7 @@ contains
     type(error_status_t), intent(inout) :: status
     type(flow_config_t), intent(in), optional :: fcfg     !< with the fluid: physics 'fracture_flow'
     type(well_config_t), intent(in), optional :: wells(:)
+    type(pressure_bc_t), intent(in), optional :: pbcs(:)
     integer(ip), allocatable :: row_ptr(:), col(:), conn8(:,:), self_conn(:,:), pairs(:,:)
     integer(ip) :: e, n, f, nown
 
@@ -185,7 +188,7 @@ contains
       call self%sys%set_pattern(bt, bt, tmap, tmap, row_ptr, col)
     end associate
     call assemble_c1(self, mesh)
-    if (self%flow) call flow_init(self, mesh, conn8, self_conn, fcfg, wells)
+    if (self%flow) call flow_init(self, mesh, conn8, self_conn, fcfg, wells, pbcs)
 
     ! fault properties and initial state
     allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%fault(n))
@@ -326,12 +329,13 @@ contains
   !> The fluid's patterns, Q1 = -(normal column of C1) (the faces carry
   !> t - p n; assembled once), the transmissibility kernel, the wells'
   !> elements and the initial pressure. Collective.
-  subroutine flow_init(self, mesh, conn8, self_conn, fcfg, wells)
+  subroutine flow_init(self, mesh, conn8, self_conn, fcfg, wells, pbcs)
     type(contact_t), intent(inout), target :: self
     type(dist_mesh_t), intent(in) :: mesh
     integer(ip), intent(in) :: conn8(:,:), self_conn(:,:)
     type(flow_config_t), intent(in) :: fcfg
     type(well_config_t), intent(in) :: wells(:)
+    type(pressure_bc_t), intent(in) :: pbcs(:)
     integer(ip), allocatable :: row_ptr(:), col(:), connp(:,:)
     integer(ip) :: n, e, k, ed, o, j, rows(24)
     real(rp) :: be(3, 24)
@@ -375,6 +379,21 @@ contains
     self%gn_step = 0.0_rp
     self%q_src = 0.0_rp
     call locate_wells(self, mesh, wells)
+    ! prescribed pressures: the last &fracture_pressure whose box holds the centre wins
+    allocate(self%pfix(n), self%p_fixed(n))
+    self%pfix = 0
+    self%p_fixed = 0.0_rp
+    block
+      real(rp) :: c(3)
+      integer :: b
+      do e = 1, n
+        c = sum(mesh%coords(:, mesh%iface_nodes(:, 1, e)), dim=2) / 4.0_rp
+        do b = 1, size(pbcs)
+          if (pbcs(b)%fault /= mesh%fault_names(mesh%iface_fault(e))) cycle
+          if (all(c >= pbcs(b)%lower .and. c <= pbcs(b)%upper)) self%pfix(e) = b
+        end do
+      end do
+    end block
   end subroutine flow_init
 
   !> Each well's element: the owned element whose centre is nearest to the
@@ -413,15 +432,20 @@ contains
 
   !> Start a time step of the fluid: the step's pressure and normal jumps,
   !> dt [s] and the wells' rates at the step's end time t (implicit Euler).
-  subroutine begin_flow_step(self, wells, t, dt)
+  subroutine begin_flow_step(self, wells, pbcs, t, dt)
     class(contact_t), intent(inout) :: self
     type(well_config_t), intent(in) :: wells(:)
+    type(pressure_bc_t), intent(in) :: pbcs(:)
     real(rp), intent(in) :: t, dt
     integer :: k
+    integer(ip) :: e
     self%dt = dt
     self%p_step = self%p
     self%gn_step = self%jump(1, :)
     self%q_src = 0.0_rp
+    do e = 1, size(self%pfix, kind=ip)
+      if (self%pfix(e) > 0) self%p_fixed(e) = pbcs(self%pfix(e))%value_at(t)
+    end do
     if (dt == 0.0_rp) return                       ! the equilibrium step 0: nothing flows
     do k = 1, size(wells)
       if (self%well_elem(k) > 0) self%q_src(self%well_elem(k)) = self%q_src(self%well_elem(k)) + wells(k)%rate_at(t)
@@ -455,9 +479,10 @@ contains
       call jpp%zero()
       call self%sys%block_range(self%bp, p0, p1)
       do e = 1, mesh%iface_map%n_owned
-        if (dt == 0.0_rp) then
+        if (dt == 0.0_rp .or. self%pfix(e) > 0) then
+          ! held (step 0) or prescribed: p = p^step or p = the prescribed value
           call jpp%add_value(e, e, 1.0_rp)
-          self%rhs(p0 + e - 1) = -(self%p(e) - self%p_step(e))
+          self%rhs(p0 + e - 1) = -(self%p(e) - merge(self%p_fixed(e), self%p_step(e), dt > 0.0_rp))
           cycle
         end if
         call free_jump_operator(e, be, dofs)
@@ -771,7 +796,9 @@ contains
       tl(1:t1-t0+1) = self%x(t0:t1)
       call self%pd%map%import(tl(1:mesh%n_ifaces))
       self%p = tl(1:mesh%n_ifaces)
-      call self%ff%set_apertures(self%edges, self%jump(1, :))
+      ! a closed (stick or slip) element conducts with a0 alone: its normal
+      ! jump is the stabilization's allowance, not an opening
+      call self%ff%set_apertures(self%edges, merge(self%jump(1, :), 0.0_rp, self%state == state_open))
     end if
   end subroutine take_solution
 
@@ -938,6 +965,7 @@ contains
     call self%ff%free()
     if (allocated(self%p)) deallocate(self%p, self%p_step, self%gn_step, self%q_src)
     if (allocated(self%well_elem)) deallocate(self%well_elem)
+    if (allocated(self%pfix)) deallocate(self%pfix, self%p_fixed)
     self%flow = .false.
     if (allocated(self%faults)) deallocate(self%faults)
     self%bu = 1

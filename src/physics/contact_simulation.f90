@@ -19,7 +19,8 @@ module contact_simulation
   use mesh_config, only: mesh_config_t
   use contact_config, only: contact_config_t
   use fault_config, only: read_faults, load_fault_histories
-  use flow_config, only: flow_config_t, well_config_t, read_wells, load_well_histories
+  use flow_config, only: flow_config_t, well_config_t, read_wells, load_well_histories, pressure_bc_t, &
+                         read_pressure_bcs
   use dist_mesh, only: dist_mesh_t
   use field_output, only: field_output_t
   use probe_fields, only: probe_fields_t, scalar_name_len
@@ -55,6 +56,7 @@ module contact_simulation
     logical :: flow = .false.
     type(flow_config_t) :: fcfg                     !< &fracture_flow
     type(well_config_t), allocatable :: wells(:)    !< &well groups
+    type(pressure_bc_t), allocatable :: pbcs(:)     !< &fracture_pressure groups
   contains
     procedure :: name
     procedure :: read_deck
@@ -122,6 +124,8 @@ contains
     call self%fcfg%read(d, log, status)
     if (status%ok()) call read_wells(d, log, self%wells, status)
     if (status%ok()) call load_well_histories(self%comm, self%wells, status)
+    if (status%ok()) call read_pressure_bcs(self%comm, d, log, [(self%faults(k)%name, k = 1, size(self%faults))], &
+                                            self%pbcs, status)
     if (.not. status%ok()) return
     do k = 1, size(self%faults)
       if (self%faults(k)%pressure /= 0.0_rp .or. len_trim(self%faults(k)%pressure_history) > 0) then
@@ -156,7 +160,7 @@ contains
     end if
     if (self%flow) then
       call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
-                          self%solver%method /= 'mumps', status, self%fcfg, self%wells)
+                          self%solver%method /= 'mumps', status, self%fcfg, self%wells, self%pbcs)
     else
       call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
                           self%solver%method /= 'mumps' .and. self%ccfg%block /= 'classical', status)
@@ -201,7 +205,7 @@ contains
       call self%phys%begin_step(1.0_rp)
       call self%phys%assemble_stiffness(self%mesh, 1.0_rp, t)
       call self%phys%take_solution(self%mesh)
-      call self%phys%begin_flow_step(self%wells, t, dt)
+      call self%phys%begin_flow_step(self%wells, self%pbcs, t, dt)
       return
     end if
     self%lf = t
@@ -536,7 +540,7 @@ contains
     integer :: k, n
     call common_parameter_groups(self, common)
     n = size(common)
-    allocate(groups(n + size(self%faults) + 1 + merge(1 + size(self%wells), 0, self%flow)))
+    allocate(groups(n + size(self%faults) + 1 + merge(1 + size(self%wells) + size(self%pbcs), 0, self%flow)))
     groups(1:n) = common
     do k = 1, size(self%faults)
       call self%faults(k)%describe(groups(n + k))
@@ -548,6 +552,9 @@ contains
       do k = 1, size(self%wells)
         call self%wells(k)%describe(groups(n + 1 + k))
       end do
+      do k = 1, size(self%pbcs)
+        call self%pbcs(k)%describe(groups(n + 1 + size(self%wells) + k))
+      end do
     end if
   end subroutine parameter_groups
 
@@ -558,7 +565,7 @@ contains
     list = [character(len=foreign_len) :: 'biot', 'source', 'block_fsai', &
             'material%biot', 'material%biot_modulus', &
             'material%permeability', 'material%permeability_tensor', 'material%viscosity']
-    if (.not. self%flow) list = [list, [character(len=foreign_len) :: 'fracture_flow', 'well']]
+    if (.not. self%flow) list = [list, [character(len=foreign_len) :: 'fracture_flow', 'well', 'fracture_pressure']]
   end subroutine foreign_inputs
   !> Every interface element must have a split node: one whose four nodes
   !> all lie on the fault's edge (a fault patch less than two elements

@@ -242,7 +242,8 @@ contains
   subroutine foreign_inputs(self, list)
     class(elastic_simulation_t), intent(in) :: self
     character(len=foreign_len), allocatable, intent(out) :: list(:)
-    list = [character(len=foreign_len) :: 'biot', 'source', 'fault', 'contact', 'fracture_flow', 'well', 'block_fsai', &
+    list = [character(len=foreign_len) :: 'biot', 'source', 'fault', 'contact', 'fracture_flow', 'well', &
+            'fracture_pressure', 'block_fsai', &
             'material%biot', 'material%biot_modulus', &
             'material%permeability', 'material%permeability_tensor', 'material%viscosity']
   end subroutine foreign_inputs

@@ -6,6 +6,9 @@
     check_flow.py sneddon RUN Q LZ TOL  mean pressure at the last step against
                                       E (Q/LZ) t / (2 pi (1 - nu^2) b^2)
     check_flow.py same RUN1 RUN2 TOL  pressure and opening of two runs (by element centre)
+    check_flow.py cubic RUN A0 MU DP L TOL  steady flow between two prescribed pressures: the
+                                      flux of every element between them against
+                                      a0^3 dp / (12 mu L), the pressure linear between them
     check_flow.py onset RUN TOL       the pressure at which the fault 'fault' starts to slip
                                       (probes CSV: between the last all-stick step and the
                                       first slipping one) against sigma_n - tau / tan(phi)
@@ -81,6 +84,23 @@ def same(a, b, tol):
     return max(dp, dg) <= tol
 
 
+def cubic(path, a0, mu, dp, length, tol):
+    run = load(path)
+    centre, _, p, aperture, _ = fields(run, -1)
+    flux = np.asarray(run.field("fractures/flux", -1))
+    y = centre[:, 1]
+    y0, y1 = y.min(), y.max()                           # the prescribed columns
+    inner = (y > y0 + 1e-9) & (y < y1 - 1e-9)
+    exact = a0**3 * dp / (12.0 * mu * length)
+    ef = float(np.abs(flux[inner] / exact - 1.0).max())
+    p_lin = p[y == y0][0] - dp * (y - y0) / length
+    ep = float(np.abs(p - p_lin).max() / dp)
+    ea = float(np.abs(aperture / a0 - 1.0).max())
+    print(f"cubic: {inner.sum()} elements between the prescribed columns, flux {flux[inner].mean():.6e} m2/s against "
+          f"a0^3 dp / (12 mu L) = {exact:.6e}: largest error {ef:.2e}; pressure linear to {ep:.2e}; aperture a0 to {ea:.1e}")
+    return ef <= tol and ep <= tol and ea == 0.0
+
+
 def onset(path, tol):
     import csv
     run = load(path)
@@ -128,6 +148,8 @@ if __name__ == "__main__":
         ok = mass(args[0], float(args[1]), float(args[2]))
     elif cmd == "sneddon":
         ok = sneddon(args[0], float(args[1]), float(args[2]), float(args[3]))
+    elif cmd == "cubic":
+        ok = cubic(args[0], *[float(v) for v in args[1:6]])
     elif cmd == "onset":
         ok = onset(args[0], float(args[1]))
     elif cmd == "same":

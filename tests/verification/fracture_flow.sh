@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Hydraulically active fracture (physics = 'fracture_flow', MUMPS) against
 # analytical results (tests/decks/flow_injection.nml):
+#  - the cubic law: steady flow along a closed fracture between two prescribed
+#    pressures (&fracture_pressure; tests/decks/flow_steady.nml): every element's
+#    flux a0^3 dp / (12 mu L) and the pressure linear, to 1e-10;
 #  - mass balance: every step, change of fracture volume + compressibility
 #    storage = injected volume Q dt, to 1e-10 relative;
 #  - storage-dominated injection into a plane strain fracture: mean pressure
@@ -55,6 +58,10 @@ if run coarse 2; then
   if awk -v a="$e1" -v b="$e2" 'BEGIN {exit !(b < a)}'; then ok "the pressure error falls: h = b/10 $e1, h = b/20 $e2"
   else ko "the pressure error does not fall: h = b/10 $e1, h = b/20 $e2"; fi
 fi
+# the cubic law: steady flow along a closed fracture between two prescribed pressures
+deck steady tests/decks/flow_steady.nml
+run steady 2 && check "cubic law: steady flux between prescribed pressures = a0^3 dp / (12 mu L) (1e-10)" $PY \
+  tests/verification/check_flow.py cubic "$out/steady" 1.0e-4 1.0e-3 1.0e6 1.875 1e-10
 # slip onset under rising pressure, a fracture far from the well stays closed
 deck onset tests/decks/flow_onset.nml
 run onset 2 && check "slip onset at sigma_n - tau / tan(phi) (2 %), the far fracture dry" $PY \
