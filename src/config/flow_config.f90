@@ -36,7 +36,7 @@ module flow_config
   use error_status, only: error_status_t
   use logger, only: logger_t
   use deck, only: deck_t, line_len, unset_real
-  use strings, only: rtoa
+  use strings, only: rtoa, itoa
   use history_file, only: read_history, history_factor
   use param_group, only: param_group_t
   implicit none
@@ -120,18 +120,12 @@ contains
       if (len_trim(bcs(k)%shape%history) > 0) then
         call read_history(comm, bcs(k)%shape%history, bcs(k)%shape%hist_t, bcs(k)%shape%hist_f, msg)
         if (len_trim(msg) > 0) then
-          call status%set("&fracture_pressure number "//itoa_(k)//": history file '"// &
+          call status%set("&fracture_pressure number "//itoa(k)//": history file '"// &
                           trim(bcs(k)%shape%history)//"': "//trim(msg), 1)
           return
         end if
       end if
     end do
-  contains
-    function itoa_(i) result(t)
-      integer, intent(in) :: i
-      character(len=12) :: t
-      write(t, '(i0)') i
-    end function itoa_
   end subroutine read_pressure_bcs
 
   !> The prescribed pressure at time t [Pa].
