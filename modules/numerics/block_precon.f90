@@ -13,7 +13,9 @@
 !>              -gamma F^T for G), applied by a product;
 !>   implicit : a product with the coupling block and an inner preconditioner,
 !>              F(i,j) x = -M (A_ij x) with M ~ A_ii^-1, G(i,j) x = -A_ij (M x)
-!>              with M ~ A_jj^-1; M is the diagonal preconditioner S_i (S_j)
+!>              with M ~ A_jj^-1 (A_ij, or a coupling matrix the physics
+!>              gives in its place: the block as an earlier elimination or
+!>              change of unknowns left it); M is the diagonal preconditioner S_i (S_j)
 !>              of the framework or a preconditioner of the factor's own
 !>              (e.g. Jacobi, which makes the cheap lower factor of ldu_cheap);
 !> and every S_i^-1 is any precon_t: AMG or aFSAI of a diagonal block, or of
@@ -52,6 +54,8 @@ module block_precon
     type(csr_matrix_t) :: m                  !< explicit: the block (rows of block i, columns of block j)
     real(rp) :: alpha = 1.0_rp               !< explicit: the block is alpha * m
     integer :: inner = 0                     !< implicit: use the framework's S_inner; 0: use own
+    logical :: own_coupling = .false.        !< implicit: coupling in place of A_ij
+    type(csr_matrix_t) :: coupling           !< implicit: the coupling when own_coupling
     class(precon_t), allocatable :: own      !< implicit: the inner preconditioner when inner = 0
   end type block_factor_t
 
@@ -126,10 +130,13 @@ contains
   !> framework's S_inner as inner preconditioner (inner > 0), or with own
   !> (moved in) when inner = 0. S_inner must be the preconditioner of the
   !> block the factor inverts: inner = i for F(i,j), inner = j for G(i,j).
-  subroutine set_implicit(self, i, j, inner, own)
+  !> coupling (moved in): the matrix used in place of A_ij (rows of block i,
+  !> columns of block j); without it the factor uses A_ij.
+  subroutine set_implicit(self, i, j, inner, own, coupling)
     class(block_precon_t), intent(inout) :: self
     integer, intent(in) :: i, j, inner
     class(precon_t), allocatable, intent(inout), optional :: own
+    type(csr_matrix_t), intent(inout), optional :: coupling
     if (i == j) error stop 'block_precon%set_implicit: factor blocks are off the diagonal'
     ! the inner preconditioner of F(i,j) approximates A_ii^-1, that of G(i,j) A_jj^-1
     if (inner /= 0 .and. inner /= min(i, j)) error stop 'block_precon%set_implicit: inner must be 0 or min(i, j)'
@@ -143,6 +150,9 @@ contains
       type(block_factor_t), intent(inout) :: b
       b%kind = factor_implicit
       b%inner = inner
+      call b%coupling%free()
+      b%own_coupling = present(coupling)
+      if (present(coupling)) call move_csr(coupling, b%coupling)
       if (inner == 0) then
         if (.not. present(own)) error stop 'block_precon%set_implicit: inner = 0 needs own'
         call move_alloc(own, b%own)
@@ -222,7 +232,7 @@ contains
         do j = i + 1, n
           if (self%f(i, j)%kind == factor_none) cycle
           call self%a%block_range(j, b0, b1)
-          call self%a%apply_block(i, j, self%w(b0:b1), self%u(a0:a1))
+          call coupling_times(self, i, j, self%w(b0:b1), self%u(a0:a1))
           self%t(a0:a1) = self%t(a0:a1) - self%u(a0:a1)
         end do
         call self%s(i)%p%apply(self%t(a0:a1), z(a0:a1))
@@ -260,10 +270,10 @@ contains
         if (b%inner > 0) then
           if (.not. self%cached(j)) call self%s(b%inner)%p%apply(xj, self%w(b0:b1))
           self%cached(j) = .true.
-          call self%a%apply_block(i, j, self%w(b0:b1), yi)
+          call coupling_times(self, i, j, self%w(b0:b1), yi)
         else
           call b%own%apply(xj, self%u(b0:b1))
-          call self%a%apply_block(i, j, self%u(b0:b1), yi)
+          call coupling_times(self, i, j, self%u(b0:b1), yi)
         end if
         yi = -yi
       end if
@@ -283,7 +293,7 @@ contains
         yi = b%alpha * yi
       else
         call self%a%block_range(i, a0, a1)
-        call self%a%apply_block(i, j, xj, self%u(a0:a1))
+        call coupling_times(self, i, j, xj, self%u(a0:a1))
         if (b%inner > 0) then
           call self%s(b%inner)%p%apply(self%u(a0:a1), yi)
         else
@@ -293,6 +303,26 @@ contains
       end if
     end associate
   end subroutine f_times
+
+  !> yi = B xj with B the coupling of the implicit factor (i, j) (F for
+  !> i < j, G for i > j): its own or A_ij.
+  subroutine coupling_times(self, i, j, xj, yi)
+    type(block_precon_t), intent(inout), target :: self
+    integer, intent(in) :: i, j
+    real(rp), intent(in) :: xj(:)
+    real(rp), intent(out) :: yi(:)
+    type(block_factor_t), pointer :: b
+    if (i < j) then
+      b => self%f(i, j)
+    else
+      b => self%g(i, j)
+    end if
+    if (b%own_coupling) then
+      call b%coupling%apply(xj, yi)
+    else
+      call self%a%apply_block(i, j, xj, yi)
+    end if
+  end subroutine coupling_times
 
   function bp_name(self) result(s)
     class(block_precon_t), intent(in) :: self
@@ -345,6 +375,8 @@ contains
     subroutine free_factor(b)
       type(block_factor_t), intent(inout) :: b
       call b%m%free()
+      call b%coupling%free()
+      b%own_coupling = .false.
       if (allocated(b%own)) then
         call b%own%free()
         deallocate(b%own)

@@ -18,12 +18,26 @@
 !> With the fluid in the fractures (physics 'fracture_flow', blocks t, u, p)
 !> the reordered preconditioner gets the seed's second level: the (t, u)
 !> block A_cm is the first level as above, and the pressure's Schur
-!> complement S_p = A_pp - A_pu diag(S*)^-1 A_up uses the diagonal of the
-!> first level's S* in place of A_cm^-1 (the seed's "second Schur complement
-!> from the diagonal of the first"; A_tp = A_pt = 0, so only the u part of
-!> A_cm^-1 enters); S_p by BoomerAMG or Jacobi (&fracture_flow
-!> pressure_precon). In the framework: F(u,p) = -S*^-1 A_up and
-!> G(p,u) = -A_pu S*^-1, implicit with the u block's AMG.
+!> complement uses the diagonal of the first level's S* in place of A_cm^-1
+!> (the seed's "second Schur complement from the diagonal of the first").
+!> The pressure enters the momentum rows as the normal traction does
+!> (A_up = Q1 = -C1 P, P putting p on the normal component), so the
+!> preconditioner is built for the total traction tau = t - P p, which
+!> carries the pressure out of the momentum rows and into the contact rows
+!> (A_tp = J_tt P): the system in (tau, u, p) is A E with E the unit upper
+!> block matrix that gives t = tau + P p, and the preconditioner of A is E
+!> times the framework's one of A E. After t is eliminated with S_t = -H~:
+!>   F(t,p) = P - S_t^-1 J_tt P = (I + H~^-1 J_tt) P      (explicit, sparse)
+!>   B_up = -C1 S_t^-1 J_tt P = Q1 + C1 F(t,p)            (the reduced (u,p) block)
+!>   F(u,p) = -S*^-1 B_up,  G(p,u) = -A_pu S*^-1           (implicit, u AMG)
+!>   S_p = A_pp - A_pu diag(S*)^-1 B_up                     (BoomerAMG or Jacobi)
+!> On an open element J_tt = -s I = -H~, so F(t,p) = 0 and B_up = Q1: the
+!> pressure pushes the faces apart. On a closed one the traction takes the
+!> pressure (F(t,p) ~ P) and B_up keeps only what the stabilization lets
+!> through (and, slipping, the friction's drop with the effective normal
+!> traction). Built on Q1 directly, diag(S*)^-1 would give every closed
+!> element a compliance it does not have; on closed fractures fed by a well
+!> GMRES then stalled for hundreds of iterations.
 !>
 !> K does not change during a run: its AMG (classical) and its global copy
 !> for the products are made once; the Schur parts are rebuilt at every
@@ -81,6 +95,7 @@ contains
     class(precon_t), allocatable :: p
     type(precon_params_t) :: params
     real(rp) :: t0
+    real(rp), allocatable :: h(:)
     t0 = wall_time()
     if (.not. self%ready) then
       self%variant = ccfg%block
@@ -99,7 +114,6 @@ contains
         call self%bp%set_implicit(phys%bu, phys%bt, phys%bt)
         if (phys%flow) then
           call from_csr(phys%sys%a(phys%bu, phys%bp), self%gup)
-          call self%bp%set_implicit(phys%bu, phys%bp, phys%bu)
           call self%bp%set_implicit(phys%bp, phys%bu, phys%bu)
         end if
       end if
@@ -108,8 +122,8 @@ contains
     if (self%variant == 'classical') then
       call classical_schur(self, phys, ccfg, amg, status)
     else
-      call reordered_schur(self, phys, mesh, ccfg, amg, status)
-      if (status%ok() .and. phys%flow) call pressure_schur(self, phys, amg, pressure_precon, status)
+      call reordered_schur(self, phys, mesh, ccfg, amg, h, status)
+      if (status%ok() .and. phys%flow) call pressure_schur(self, phys, h, amg, pressure_precon, status)
     end if
     self%t_setup = wall_time() - t0
   end subroutine setup
@@ -141,15 +155,15 @@ contains
   end subroutine classical_schur
 
   !> S_1 = -H~ and S_2 = BoomerAMG(K + C1 H~^-1 C2).
-  subroutine reordered_schur(self, phys, mesh, ccfg, amg, status)
+  subroutine reordered_schur(self, phys, mesh, ccfg, amg, h, status)
     type(contact_precon_t), intent(inout), target :: self
     type(contact_t), intent(inout), target :: phys
     type(dist_mesh_t), intent(in) :: mesh
     type(contact_config_t), intent(in) :: ccfg
     type(amg_params_t), intent(in) :: amg
+    real(rp), allocatable, intent(out) :: h(:)   !< H~ (owned t rows)
     type(error_status_t), intent(inout) :: status
     type(global_csr_t) :: gc2, prod, sstar
-    real(rp), allocatable :: h(:)
     class(precon_t), allocatable :: p, w
     type(precon_params_t) :: params
     integer(ip) :: i, k
@@ -189,22 +203,32 @@ contains
     call replace(self%bp%s(phys%bu)%p, p)
   end subroutine reordered_schur
 
-  !> S_p = A_pp - A_pu diag(S*)^-1 A_up and its preconditioner, in S_3.
-  subroutine pressure_schur(self, phys, amg, choice, status)
+  !> The pressure's part (header): F(t,p), B_up with F(u,p), and S_p with
+  !> its preconditioner in S_3. h: H~ of the owned t rows.
+  subroutine pressure_schur(self, phys, h, amg, choice, status)
     type(contact_precon_t), intent(inout), target :: self
     type(contact_t), intent(inout), target :: phys
+    real(rp), intent(in) :: h(:)
     type(amg_params_t), intent(in) :: amg
     character(len=*), intent(in) :: choice
     type(error_status_t), intent(inout) :: status
-    type(global_csr_t) :: gup_d, gpu, gpp, prod, sp
+    type(global_csr_t) :: gftp, gbup, gup_d, gpu, gpp, prod, sp
+    type(csr_matrix_t) :: ftp, bup
     class(precon_t), allocatable :: p
     type(precon_params_t) :: params
-    gup_d = self%gup
+    call traction_pressure_factor(phys, h, ftp)
+    call from_csr(ftp, gftp)
+    call gcsr_multiply(self%gc1, gftp, prod)
+    call gcsr_add(1.0_rp, self%gup, 1.0_rp, prod, gbup)
+    call to_csr(gbup, phys%mech%u%map, bup)
+    call self%bp%set_explicit(phys%bt, phys%bp, 1.0_rp, ftp)
+    gup_d = gbup
     call scale_rows_by_diagonal(self%s, gup_d)
     call from_csr(phys%sys%a(phys%bp, phys%bu), gpu)
     call from_csr(phys%sys%a(phys%bp, phys%bp), gpp)
     call gcsr_multiply(gpu, gup_d, prod)
     call gcsr_add(1.0_rp, gpp, -1.0_rp, prod, sp)
+    call self%bp%set_implicit(phys%bu, phys%bp, phys%bu, coupling=bup)
     call self%sp%free()
     call to_csr(sp, phys%pd%map, self%sp)
     self%nnz_pressure = self%sp%global_nnz()
@@ -215,6 +239,54 @@ contains
     if (.not. status%ok()) return
     call replace(self%bp%s(phys%bp)%p, p)
   end subroutine pressure_schur
+
+  !> F(t,p) = (I + H~^-1 J_tt) P on the owned t rows, columns the local
+  !> pressures: J_tt's entries in normal columns (local t index 3 (e-1) + 1
+  !> of local element e, whose pressure has local index e) divided by the
+  !> row's H~, plus 1 where the row is its element's normal component.
+  subroutine traction_pressure_factor(phys, h, f)
+    type(contact_t), intent(inout), target :: phys
+    real(rp), intent(in) :: h(:)
+    type(csr_matrix_t), intent(inout) :: f
+    integer(ip), allocatable :: ptr(:), col(:)
+    real(rp), allocatable :: val(:)
+    integer(ip) :: i, k, n, c, e_row
+    logical :: diag_done
+    associate (jtt => phys%sys%a(phys%bt, phys%bt))
+      allocate(ptr(jtt%n_rows + 1), col(jtt%nnz() + jtt%n_rows), val(jtt%nnz() + jtt%n_rows))
+      n = 0
+      ptr(1) = 1
+      do i = 1, jtt%n_rows
+        e_row = (i - 1) / 3 + 1
+        diag_done = mod(i - 1, 3) /= 0          ! only normal rows carry the identity
+        do k = jtt%row_ptr(i), jtt%row_ptr(i + 1) - 1
+          c = jtt%col(k)
+          if (mod(c - 1, 3) /= 0) cycle
+          if (.not. diag_done .and. (c - 1) / 3 + 1 > e_row) then
+            n = n + 1
+            col(n) = e_row
+            val(n) = 1.0_rp
+            diag_done = .true.
+          end if
+          n = n + 1
+          col(n) = (c - 1) / 3 + 1
+          val(n) = jtt%val(k) / h(i)
+          if (col(n) == e_row .and. .not. diag_done) then
+            val(n) = val(n) + 1.0_rp
+            diag_done = .true.
+          end if
+        end do
+        if (.not. diag_done) then
+          n = n + 1
+          col(n) = e_row
+          val(n) = 1.0_rp
+        end if
+        ptr(i + 1) = n + 1
+      end do
+      call f%init(phys%t%map, phys%pd%map, ptr, col(1:n))
+      f%val = val(1:n)
+    end associate
+  end subroutine traction_pressure_factor
 
   !> Rows of g divided by the diagonal of k (same row space).
   subroutine scale_rows_by_diagonal(k, g)

@@ -325,6 +325,37 @@ program test_block_precon
   call suite%assert_true(res <= rtol .and. err < sol_tol, 'inexact F1: converged to the dense solution')
   call bp%free()
 
+  ! ---- 9. an implicit factor with its own coupling matrix in place of A_ij ----
+  call new_precon(bp, 'ldu implicit', a, smat)
+  call all_implicit(bp)
+  call bp%apply(v, za)
+  call new_precon(bq, 'ldu implicit, own couplings equal to A_13 and A_31', a, smat)
+  call explicit_block(transpose(dq), 3, 1, mf)
+  call bq%set_implicit(3, 1, 1, coupling=mf)
+  call suite%assert_true(.not. allocated(mf%val), 'set_implicit moves the coupling in')
+  call bq%set_implicit(3, 2, 2)
+  call explicit_block(-dq, 1, 3, mf)
+  call bq%set_implicit(1, 3, 1, coupling=mf)
+  call bq%set_implicit(2, 3, 2)
+  call bq%apply(v, zb)
+  call suite%assert_true(bq%fused(1), 'own coupling: the row stays fused')
+  call suite%assert_true(rel_diff(za, zb) < 1.0e-10_rp, 'own couplings equal to A_13, A_31: the same z to 1e-10')
+  ! the coupling is used: F(1,3) built on 2 A_13 is F1 doubled, z_1 changes
+  ! by F1 w_3 exactly (w_3 is the same, F(1,3) only feeds row 1)
+  call explicit_block(-2.0_rp * dq, 1, 3, mf)
+  call bq%set_implicit(1, 3, 1, coupling=mf)
+  call bq%apply(v, zb)
+  call suite%assert_true(rel_diff(za, zb) > 1.0e-3_rp, 'own coupling 2 A_13: z differs')
+  call explicit_block(df1, 1, 3, mf)
+  call bp%set_explicit(1, 3, 2.0_rp, mf)
+  call bp%apply(v, za)
+  call suite%assert_true(rel_diff(za, zb) < 1.0e-10_rp, 'own coupling 2 A_13 = explicit F(1,3) = 2 F1, to 1e-10')
+  call run(bq, a, xref, its, res, err, x)
+  call suite%assert_true(its > 1 .and. res <= rtol .and. err < sol_tol, &
+                         'own coupling 2 A_13: more than 1 iteration, converged to the dense solution')
+  call bp%free()
+  call bq%free()
+
   call direct%free()
   call mono%free()
   call smat%free()
@@ -517,6 +548,15 @@ contains
     call to_csr(g, maps(fr), m)
     call g%free()
   end subroutine explicit_block
+
+  !> Every factor block of p implicit with the framework's S_i inside.
+  subroutine all_implicit(p)
+    type(block_precon_t), intent(inout) :: p
+    call p%set_implicit(3, 1, 1)
+    call p%set_implicit(3, 2, 2)
+    call p%set_implicit(1, 3, 1)
+    call p%set_implicit(2, 3, 2)
+  end subroutine all_implicit
 
   !> A framework on the block matrix am with MUMPS factorizations of K, M and
   !> the exact Schur complement sm as S_1, S_2, S_3 and no factor blocks.
