@@ -85,7 +85,6 @@ module contact
     real(rp), allocatable :: fric(:), coh(:), pres(:)      !< tan(phi), cohesion [Pa], fluid pressure [Pa]
     integer, allocatable :: fault(:)               !< index of the element's fault in faults(:)
     integer, allocatable :: state(:)
-    logical, allocatable :: fresh(:)               !< slip since the last update: direction from t_T
     real(rp), allocatable :: trac(:,:), trac_step(:,:)     !< (3,n) local-frame traction [Pa]
     real(rp), allocatable :: jump(:,:), jump_step(:,:)     !< (3,n) local-frame mean jump [m]
     ! stabilization edges
@@ -205,8 +204,6 @@ contains
       self%state(e) = state_stick
       if (faults(f)%initial_state == 'open') self%state(e) = state_open
     end do
-    allocate(self%fresh(n))
-    self%fresh = .false.
     allocate(self%trac(3, n), self%trac_step(3, n), self%jump(3, n), self%jump_step(3, n))
     self%trac = 0.0_rp
     self%trac_step = 0.0_rp
@@ -635,7 +632,7 @@ contains
     class(contact_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), allocatable :: tp(:), w(:)
-    real(rp) :: be(3, 24), jt(3, 24), r(3), v(3), hb(3, 3), dd(2), dg(2), tau, nrm, p2(2, 2)
+    real(rp) :: be(3, 24), jt(3, 24), r(3), v(3), hb(3, 3), dd(2), dg(2), tau, nrm, p2(2, 2), z(2), cz
     integer(ip) :: e, j, k, ed, o, dofs(24), cols(3), ne, no, u0, u1, t0, t1, i
     associate (jtu => self%sys%a(self%bt, self%bu), jtt => self%sys%a(self%bt, self%bt))
       call jtu%zero()
@@ -661,22 +658,32 @@ contains
           r(1) = self%area(e) * self%jump(1, e)
           tau = self%coh(e) - self%fric(e) * self%trac(1, e)
           dg = self%jump(2:3, e) - self%jump_step(2:3, e)
-          nrm = norm2(dg)
           hb = 0.0_rp
-          if (nrm > slip_eps(self) .and. .not. self%fresh(e)) then
-            dd = dg / nrm
-            p2 = -spread(dd, 2, 2) * spread(dd, 1, 2)
-            p2(1, 1) = p2(1, 1) + 1.0_rp
-            p2(2, 2) = p2(2, 2) + 1.0_rp
-            jt(2:3, :) = self%s(e) * tau / (nrm * self%area(e)) * matmul(p2, be(2:3, :))
-          else if (norm2(self%trac(2:3, e)) > 0.0_rp) then
-            dd = self%trac(2:3, e) / norm2(self%trac(2:3, e))
-          else
-            dd = 0.0_rp
-          end if
+          ! semi-smooth Newton on t_T = tau z / |z|, z = t_T + c dg with
+          ! c = A / s (a stiffness): the direction blends the traction and
+          ! the slip increment of the step, so that a new slip element needs
+          ! no special case and a small increment does not steer it (with
+          ! dg, the old Newton direction, an element whose increment was
+          ! still tiny reversed it and went back to stick, and the active
+          ! set cycled). Before any increment of the step (dg = 0) the
+          ! direction is held (jt = 0, t_T = tau t_T/|t_T|): the exact
+          ! derivative there, rank one in t_T, cost the reordered
+          ! preconditioner 3x its iterations.
+          cz = self%area(e) / self%s(e)
+          z = self%trac(2:3, e) + cz * dg
+          nrm = norm2(z)
+          dd = 0.0_rp
+          if (nrm > 0.0_rp) dd = z / nrm
+          p2 = -spread(dd, 2, 2) * spread(dd, 1, 2)
+          p2(1, 1) = p2(1, 1) + 1.0_rp
+          p2(2, 2) = p2(2, 2) + 1.0_rp
           r(2:3) = -self%s(e) * (self%trac(2:3, e) - tau * dd)
           hb(2, 2) = -self%s(e)
           hb(3, 3) = -self%s(e)
+          if (nrm > 0.0_rp .and. any(dg /= 0.0_rp)) then
+            hb(2:3, 2:3) = hb(2:3, 2:3) + self%s(e) * tau / nrm * p2
+            jt(2:3, :) = self%s(e) * tau * cz / (nrm * self%area(e)) * matmul(p2, be(2:3, :))
+          end if
           hb(2:3, 1) = -self%s(e) * self%fric(e) * dd
           call jtt%add_block(cols, cols, hb)
         case (state_open)
@@ -763,12 +770,6 @@ contains
     end select
   end function ncon
 
-  !> Slip increments below this count as none [m].
-  real(rp) function slip_eps(self)
-    type(contact_t), intent(in) :: self
-    slip_eps = 1.0e-12_rp * self%length
-  end function slip_eps
-
   !> Take the owned block vector x as the new state: local displacements and
   !> tractions with ghosts, mean jumps of the local elements. Collective.
   subroutine take_solution(self, mesh)
@@ -839,16 +840,14 @@ contains
       case (state_slip)
         if (self%trac(1, e) > tol * t_ref) then
           new = state_open
-        else if (norm2(dg) <= tol * g_ref .or. dot_product(dg, self%trac(2:3, e)) < 0.0_rp) then
+        else if (norm2(self%trac(2:3, e) + self%area(e) / self%s(e) * dg) < tau - tol * t_ref) then
+          ! |z| below the limit: the slip increment turned against the traction
           new = state_stick
         end if
       case (state_open)
         if (self%jump(1, e) < -tol * g_ref) new = state_stick
       end select
       if (new /= self%state(e)) changed = changed + 1
-      ! a new slip element takes its direction from the trial traction: the
-      ! tiny jump the stabilization lets through in stick has no meaning
-      self%fresh(e) = new == state_slip .and. self%state(e) /= state_slip
       self%state(e) = new
     end do
     changed = comm%sum(changed)
@@ -956,7 +955,7 @@ contains
     if (allocated(self%u)) deallocate(self%u)
     if (allocated(self%area)) deallocate(self%area, self%wn, self%rot)
     if (allocated(self%s)) deallocate(self%s)
-    if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, self%fresh, &
+    if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, &
                                                  self%fault)
     if (allocated(self%trac)) deallocate(self%trac, self%trac_step, self%jump, self%jump_step)
     call self%edges%free()

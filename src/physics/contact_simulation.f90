@@ -378,7 +378,6 @@ contains
     type(error_status_t), intent(inout) :: status
     call st%get('x', self%phys%x, status)
     call st%get('status', self%phys%state, status)
-    self%phys%fresh = .false.
     call self%phys%take_solution(self%mesh)
   end subroutine load_state
 

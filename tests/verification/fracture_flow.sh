@@ -14,7 +14,8 @@
 #    the last all-stick step and the first slipping one, around
 #    sigma_n - tau / tan(phi) for the homogeneous stress (midpoint within 2 %);
 #    a second fracture, not connected, keeps its pressure and holds no fluid;
-#    its first stick steps with FGMRES: counts within 1.5x those of step 0;
+#    the slip grows every step for 5 steps past the onset; its first stick
+#    steps with FGMRES: counts within 1.5x those of step 0;
 #  - stick -> slip -> open under injection (tests/decks/flow_states.nml): all
 #    three statuses met; FGMRES with the u-t-p block preconditioner (S_p by
 #    BoomerAMG, by Jacobi) gives MUMPS's pressure and opening to 1e-6.
@@ -65,15 +66,26 @@ run steady 2 && check "cubic law: steady flux between prescribed pressures = a0^
   tests/verification/check_flow.py cubic "$out/steady" 1.0e-4 1.0e-3 1.0e6 1.875 1e-10
 # slip onset under rising pressure, a fracture far from the well stays closed
 deck onset tests/decks/flow_onset.nml
-run onset 2 && check "slip onset at sigma_n - tau / tan(phi) (2 %), the far fracture dry" $PY \
-  tests/verification/check_flow.py onset "$out/onset" 0.02
+if run onset 2; then
+  check "slip onset at sigma_n - tau / tan(phi) (2 %), the far fracture dry" $PY \
+    tests/verification/check_flow.py onset "$out/onset" 0.02
+  # past the onset the fault keeps slipping: the largest slip grows every
+  # step (the active set once cycled here between stick and slip)
+  slips=$(grep -E "^time step (5[3-8])  " "$out/onset.log" | sed -E 's/.*max slip +([0-9.E+-]+) m.*/\1/' | paste -sd' ')
+  if awk -v s="$slips" 'BEGIN {n = split(s, v, " "); ok = n == 6
+        for (i = 2; i <= n; i++) if (!(v[i] + 0 > v[i-1] + 0)) ok = 0; exit !ok}'; then
+    ok "past the onset (steps 53-58) the slip grows every step: $slips m"
+  else
+    ko "past the onset the slip does not grow every step (steps 53-58): $slips"
+  fi
+fi
 # closed fractures fed by a well, FGMRES: the pressure's mean over a closed
 # fracture is held by its storage alone, and a preconditioner that gives the
 # closed elements a compliance they do not have stalls there (up to 84 iterations
 # here against 50 at step 0, 335 on nine fractures); stick steps stay within 1.5x the
 # largest count of step 0 (the contact system at the initial pressure)
 deck onset_fgmres tests/decks/flow_onset.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-8#" \
-  -e "s#t_end = 53.0#t_end = 6.0#"
+  -e "s#t_end = 58.0#t_end = 6.0#"
 if run onset_fgmres 2; then
   counts=$(awk '/linear its/ {printf "%s ", $5} /^time step/ {printf "| "}' "$out/onset_fgmres.log")
   if awk -v c="$counts" 'BEGIN {n = split(c, f, " "); s = 0; m0 = 0; m = 0
