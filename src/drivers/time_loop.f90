@@ -65,8 +65,9 @@ contains
     type(dist_mesh_t), target :: mesh
     type(run_state_t) :: rs
     type(step_stats_t) :: stats
-    integer :: step, sig
+    integer :: step, sig, k
     character(len=msg_len) :: line
+    character(len=msg_len), allocatable :: notes(:)
 
     call catch_stop_signals()
     call rs%timers%start('total')
@@ -80,6 +81,10 @@ contains
       call advance(comm, log, sim, rs, stats)
       call sim%report_step(stats, line)
       call log%info(line)
+      call sim%step_notes(notes)
+      do k = 1, size(notes)
+        call log%info(trim(notes(k)))
+      end do
       call record_probes(comm, log, sim, rs, step)
       if (run%fields .and. (mod(step, run%every) == 0 .or. step <= 1 .or. rs%schedule%is_last(step, rs%t))) &
         call write_step(comm, log, sim, rs)

@@ -85,6 +85,8 @@ module contact
     real(rp), allocatable :: fric(:), coh(:), pres(:)      !< tan(phi), cohesion [Pa], fluid pressure [Pa]
     integer, allocatable :: fault(:)               !< index of the element's fault in faults(:)
     integer, allocatable :: state(:)
+    integer, allocatable :: flips(:)               !< stick <-> slip changes of the element in this step
+    integer(gp), allocatable :: held(:)            !< per fault (of faults(:)): elements held in their status at the last update
     real(rp), allocatable :: trac(:,:), trac_step(:,:)     !< (3,n) local-frame traction [Pa]
     real(rp), allocatable :: jump(:,:), jump_step(:,:)     !< (3,n) local-frame mean jump [m]
     ! stabilization edges
@@ -190,7 +192,8 @@ contains
     if (self%flow) call flow_init(self, mesh, conn8, self_conn, fcfg, wells, pbcs)
 
     ! fault properties and initial state
-    allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%fault(n))
+    allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%fault(n), self%flips(n))
+    self%flips = 0
     do e = 1, n
       f = fault_index(self, mesh, mesh%iface_fault(e))
       self%fault(e) = f
@@ -619,6 +622,7 @@ contains
     integer(ip) :: i, u0, u1
     self%trac_step = self%trac
     self%jump_step = self%jump
+    self%flips = 0
     do i = 1, self%mech%u%n_local()
       if (self%mech%fixed(i)) self%u(i) = lf * self%mech%prescribed_value(i)
     end do
@@ -809,6 +813,9 @@ contains
     class(contact_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), intent(in) :: tol                    !< relative tolerance of the checks
+    !> stick <-> slip changes of one element in a step before it is held
+    integer, parameter :: max_flips = 4
+    integer :: f
     type(parallel_comm_t) :: comm
     real(rp) :: t_ref, g_ref, tau, dg(2)
     real(rp), allocatable :: st(:)
@@ -826,6 +833,8 @@ contains
     t_ref = comm%max(t_ref)
     g_ref = max(comm%max(g_ref), 1.0e-9_rp * self%length)
     changed = 0
+    if (.not. allocated(self%held)) allocate(self%held(size(self%faults)))
+    self%held = 0
     do e = 1, nown
       new = self%state(e)
       tau = self%coh(e) - self%fric(e) * self%trac(1, e)
@@ -847,10 +856,23 @@ contains
       case (state_open)
         if (self%jump(1, e) < -tol * g_ref) new = state_stick
       end select
+      ! an element that went stick <-> slip max_flips times in this step sits
+      ! on the friction limit within the tolerances: it keeps its status
+      if (new /= self%state(e) .and. new /= state_open .and. self%state(e) /= state_open) then
+        if (self%flips(e) >= max_flips) then
+          new = self%state(e)
+          self%held(self%fault(e)) = self%held(self%fault(e)) + 1
+        else
+          self%flips(e) = self%flips(e) + 1
+        end if
+      end if
       if (new /= self%state(e)) changed = changed + 1
       self%state(e) = new
     end do
     changed = comm%sum(changed)
+    do f = 1, size(self%held)
+      self%held(f) = comm%sum(self%held(f))
+    end do
     allocate(st(mesh%n_ifaces))
     st = real(self%state, rp)
     call mesh%iface_map%import(st)
@@ -956,7 +978,8 @@ contains
     if (allocated(self%area)) deallocate(self%area, self%wn, self%rot)
     if (allocated(self%s)) deallocate(self%s)
     if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, &
-                                                 self%fault)
+                                                 self%fault, self%flips)
+    if (allocated(self%held)) deallocate(self%held)
     if (allocated(self%trac)) deallocate(self%trac, self%trac_step, self%jump, self%jump_step)
     call self%edges%free()
     if (allocated(self%eb)) deallocate(self%eb)

@@ -52,6 +52,7 @@ module contact_simulation
     real(rp) :: lf = 0.0_rp                         !< load factor of the step
     type(mesh_pieces_t) :: pieces                   !< connected pieces of the mesh (faults cut them)
     integer(gp) :: open_checked = -1                !< open elements when the pieces were last checked
+    integer(gp), allocatable :: fault_counts(:,:)   !< (3, faults) stick/slip/open per fault, last reported
     ! physics = 'fracture_flow': the fluid in the fractures
     logical :: flow = .false.
     type(flow_config_t) :: fcfg                     !< &fracture_flow
@@ -74,6 +75,7 @@ module contact_simulation
     procedure :: probe_names
     procedure :: sample
     procedure :: report_step
+    procedure :: step_notes
     procedure :: finish
     procedure :: free
   end type contact_simulation_t
@@ -358,10 +360,25 @@ contains
     if (self%flow) converged = converged .and. du <= self%ccfg%newton_tol .and. dp <= self%ccfg%newton_tol
     if (self%flow) write(line, '(a,es9.2)') '  |dp|/|p| ', dp
     if (self%flow) call log%detail(line)
+    if (converged) call warn_held(self, log)
     why = ''
     if (.not. converged) write(why, '(a,i0,a,es9.2,a,es9.2)') 'last iteration: ', changed, &
       ' status changes, |du|/|u| ', du, ', |dt|/|t| ', dt
   end subroutine update
+
+  !> Per fault, the elements the active set held in their status in this
+  !> step (they went between stick and slip max_flips times, contact.f90).
+  subroutine warn_held(self, log)
+    type(contact_simulation_t), intent(in) :: self
+    type(logger_t), intent(inout) :: log
+    integer :: f
+    if (.not. allocated(self%phys%held)) return
+    do f = 1, size(self%phys%held)
+      if (self%phys%held(f) > 0) call log%warn("fault '"//trim(self%phys%faults(f)%name)//"': "// &
+        itoa(int(self%phys%held(f)))//' element(s) went between stick and slip 4 times in this step and '// &
+        'were held in their status (they sit on the friction limit within &contact status_tol)')
+    end do
+  end subroutine warn_held
 
   !> The block vector (displacements and tractions) and the statuses; the
   !> rest follows from them.
@@ -379,6 +396,7 @@ contains
     call st%get('x', self%phys%x, status)
     call st%get('status', self%phys%state, status)
     call self%phys%take_solution(self%mesh)
+    self%fault_counts = counts_per_fault(self)
   end subroutine load_state
 
   !> displacement, stress, region, rank (mesh grid) and the fault fields
@@ -506,6 +524,63 @@ contains
       '  stick/slip/open ', n(1), '/', n(2), '/', n(3), '', '  max slip ', max_slip(self), ' m  setup ', &
       stats%t_setup, ' s  solve ', stats%t_solve, ' s'
   end subroutine report_step
+
+  !> One line per fault whose stick/slip/open counts changed since the last
+  !> report (all faults at the first), e.g.
+  !>   fault 'f3': stick/slip/open 49/0/0 -> 12/37/0 (slip starts)
+  !> Collective.
+  subroutine step_notes(self, lines)
+    class(contact_simulation_t), intent(inout) :: self
+    character(len=msg_len), allocatable, intent(out) :: lines(:)
+    integer(gp), allocatable :: now(:,:)
+    character(len=msg_len) :: starts
+    integer :: f, n, k
+    character(len=5), parameter :: what(3) = ['stick', 'slip ', 'open ']
+    now = counts_per_fault(self)
+    allocate(lines(size(now, 2)))
+    n = 0
+    do f = 1, size(now, 2)
+      if (allocated(self%fault_counts)) then
+        if (all(now(:, f) == self%fault_counts(:, f))) cycle
+      end if
+      n = n + 1
+      lines(n) = "fault '"//trim(self%mesh%fault_names(f))//"': stick/slip/open "//counts_text(now(:, f))
+      if (allocated(self%fault_counts)) then
+        lines(n) = "fault '"//trim(self%mesh%fault_names(f))//"': stick/slip/open "// &
+                   trim(counts_text(self%fault_counts(:, f)))//' -> '//counts_text(now(:, f))
+        starts = ''
+        do k = 1, 3
+          if (now(k, f) > 0 .and. self%fault_counts(k, f) == 0) starts = trim(starts)//', '//trim(what(k))//' starts'
+          if (now(k, f) == 0 .and. self%fault_counts(k, f) > 0) starts = trim(starts)//', no '//trim(what(k))//' left'
+        end do
+        if (len_trim(starts) > 0) lines(n) = trim(lines(n))//' ('//starts(3:len_trim(starts))//')'
+      end if
+    end do
+    lines = lines(1:n)
+    self%fault_counts = now
+  contains
+    function counts_text(c) result(t)
+      integer(gp), intent(in) :: c(3)
+      character(len=msg_len) :: t
+      t = itoa(int(c(1)))//'/'//itoa(int(c(2)))//'/'//itoa(int(c(3)))
+    end function counts_text
+  end subroutine step_notes
+
+  !> Global stick/slip/open counts of every fault (3, faults). Collective.
+  function counts_per_fault(self) result(c)
+    type(contact_simulation_t), intent(in) :: self
+    integer(gp), allocatable :: c(:,:)
+    integer(ip) :: e
+    integer :: k
+    allocate(c(3, size(self%mesh%fault_names)))
+    c = 0
+    do e = 1, self%mesh%iface_map%n_owned
+      c(self%phys%state(e), self%mesh%iface_fault(e)) = c(self%phys%state(e), self%mesh%iface_fault(e)) + 1
+    end do
+    do k = 1, size(c, 2)
+      call self%comm%sum_all(c(:, k))
+    end do
+  end function counts_per_fault
 
   !> Largest tangential jump over the faults [m]. Collective.
   real(rp) function max_slip(self)

@@ -24,6 +24,8 @@
 !>                                say whether the step has converged
 !>     accept_step()  or  load_state(st) and a smaller step
 !>     report_step(stats)         its progress line
+!>     step_notes(lines)          lines on what changed in the step, if any
+!>                                (contact: a fault's statuses)
 !>     write_output(out)          its fields of the step
 !>     sample(pf)                 the fields &probe may name (probe_names) and
 !>                                scalars of its own, for the probe file
@@ -110,6 +112,7 @@ module simulation
     procedure :: probe_names
     procedure :: sample
     procedure :: accept_step
+    procedure :: step_notes
     procedure :: finish
   end type simulation_t
 
@@ -295,6 +298,14 @@ contains
   subroutine accept_step(self)
     class(simulation_t), intent(inout) :: self
   end subroutine accept_step
+
+  !> Lines for the log after the step's progress line, on what changed in
+  !> the step (default: none). Collective.
+  subroutine step_notes(self, lines)
+    class(simulation_t), intent(inout) :: self
+    character(len=msg_len), allocatable, intent(out) :: lines(:)
+    allocate(lines(0))
+  end subroutine step_notes
 
   !> Closing lines of the run (default: none). Collective.
   subroutine finish(self, log)

@@ -17,8 +17,10 @@
 #    the slip grows every step for 5 steps past the onset; its first stick
 #    steps with FGMRES: counts within 1.5x those of step 0;
 #  - stick -> slip -> open under injection (tests/decks/flow_states.nml): all
-#    three statuses met; FGMRES with the u-t-p block preconditioner (S_p by
-#    BoomerAMG, by Jacobi) gives MUMPS's pressure and opening to 1e-6.
+#    three statuses met, the log line of the change; FGMRES with the u-t-p block preconditioner (S_p by
+#    BoomerAMG, by Jacobi) gives MUMPS's pressure and opening to 1e-6;
+#  - the seed's nine-fracture injection case, reduced (tests/decks/flow_nine.nml):
+#    stick, all slipping, open, with a log line per fracture and change.
 set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -107,6 +109,10 @@ if run states_mumps 2; then
   else
     ko "not every status met: $st"
   fi
+  # the log names the fault and the change when its statuses change
+  note=$(grep -E "^fault 'fault': stick/slip/open [0-9/]+ -> [0-9/]+ \(open starts\)" "$out/states_mumps.log" | head -1)
+  [ -n "$note" ] && ok "the log tells when the fault starts to open: $note" || \
+    ko "no log line for the fault's statuses changing to open"
   for sp in boomeramg jacobi; do
     deck "states_$sp" tests/decks/flow_states.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
     printf "&fracture_flow\n  pressure_precon = '%s'\n/\n" "$sp" >> "$out/states_$sp.nml"
@@ -118,6 +124,24 @@ if run states_mumps 2; then
         $PY postproc/plot_convergence.py --step 5 "$out" "states_$sp" "$out/states_step5.png"
     fi
   done
+fi
+# the seed's injection case, reduced (tests/decks/flow_nine.nml): nine
+# fractures fed by a well each go stick -> slip -> open, and the log says so
+deck nine tests/decks/flow_nine.nml
+cp tests/decks/nine_fractures_rate.tab "$out/"
+if run nine 2; then
+  st=$(grep -E "^time step" "$out/nine.log" | sed -E 's#.*stick/slip/open ([0-9/]+).*#\1#' | paste -sd' ')
+  if awk -v s="$st" 'BEGIN {n = split(s, v, " "); split(v[2], a, "/"); split(v[n], z, "/"); m = 0
+        for (i = 1; i <= n; i++) { split(v[i], c, "/"); if (c[1] == 0 && c[3] == 0) m = 1 }
+        exit !(a[2] == 0 && a[3] == 0 && m && z[3] > 0)}'; then
+    ok "nine fractures: stick, then all slipping, then open: $st"
+  else
+    ko "nine fractures: not stick -> slip -> open: $st"
+  fi
+  n_slip=$(grep -cE "^fault 'f[1-9]': stick/slip/open .*\(slip starts" "$out/nine.log")
+  n_open=$(grep -cE "^fault 'f[1-9]': stick/slip/open .*\(open starts" "$out/nine.log")
+  [ "$n_slip" -eq 9 ] && [ "$n_open" -ge 1 ] && ok "nine fractures: the log names each fracture as it starts to slip ($n_slip) and to open ($n_open)" || \
+    ko "nine fractures: log lines for slip $n_slip (want 9), for open $n_open (want >= 1)"
 fi
 echo "suite fracture_flow: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
