@@ -115,6 +115,7 @@ bench: deps
 	@bash bench/run_bench_biot.sh
 	@bash bench/run_bench_fsai.sh
 	@bash bench/run_bench_contact.sh
+	@bash bench/run_bench_flow.sh
 
 clean:
 	rm -rf build bin

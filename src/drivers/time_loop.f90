@@ -269,7 +269,7 @@ contains
     character(len=*), intent(in) :: why
     if (sim%max_cuts == 0) call log%fatal(comm, 'step '//itoa(stats%step)//': '//trim(why))
     call log%fatal(comm, 'step '//itoa(stats%step)//' (t = '//trim(rtoa(t))//'): no convergence after '// &
-      itoa(stats%cuts)//' step cuts: '//trim(why)//' (raise max_newton or max_cuts in &'//trim(sim%name())// &
+      itoa(stats%cuts)//' step cuts: '//trim(why)//' (raise max_newton or max_cuts in &'//trim(sim%controls_group())// &
       ', or use more steps in &time)')
   end subroutine fail_step
 

@@ -76,6 +76,7 @@ module contact_simulation
     procedure :: sample
     procedure :: report_step
     procedure :: step_notes
+    procedure :: controls_group
     procedure :: finish
     procedure :: free
   end type contact_simulation_t
@@ -524,6 +525,13 @@ contains
       '  stick/slip/open ', n(1), '/', n(2), '/', n(3), '', '  max slip ', max_slip(self), ' m  setup ', &
       stats%t_setup, ' s  solve ', stats%t_solve, ' s'
   end subroutine report_step
+
+  !> max_newton and max_cuts are in &contact, with fluid or without.
+  function controls_group(self) result(g)
+    class(contact_simulation_t), intent(in) :: self
+    character(len=name_len) :: g
+    g = 'contact'
+  end function controls_group
 
   !> One line per fault whose stick/slip/open counts changed since the last
   !> report (all faults at the first), e.g.

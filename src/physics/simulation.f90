@@ -113,6 +113,7 @@ module simulation
     procedure :: sample
     procedure :: accept_step
     procedure :: step_notes
+    procedure :: controls_group
     procedure :: finish
   end type simulation_t
 
@@ -298,6 +299,14 @@ contains
   subroutine accept_step(self)
     class(simulation_t), intent(inout) :: self
   end subroutine accept_step
+
+  !> The deck group that holds max_newton and max_cuts (default: the
+  !> physics' own group, named as the physics).
+  function controls_group(self) result(g)
+    class(simulation_t), intent(in) :: self
+    character(len=name_len) :: g
+    g = self%name()
+  end function controls_group
 
   !> Lines for the log after the step's progress line, on what changed in
   !> the step (default: none). Collective.
