@@ -17,6 +17,11 @@
 !>                     two in-plane coordinates; the component along normal_axis
 !>                     is ignored. An extent strictly inside the box makes a
 !>                     fracture with tips                          [the whole box]
+!>   radius            [m], > 0: a circular fault (a disc): of the quads within
+!>                     lower..upper, only those whose centres lie within radius
+!>                     of centre in the fault plane; dip = 0 only  [none: the rectangle]
+!>   centre(3)         the disc's centre [m]; its two in-plane components are
+!>                     used (the one along normal_axis is ignored)   [required with radius]
 !> Contact properties (used by the contact physics):
 !>   friction_angle    Coulomb friction angle [degrees], 0 <= . < 90        [30]
 !>   cohesion          [Pa], >= 0                                            [0]
@@ -49,6 +54,8 @@ module fault_config
     real(rp) :: dip = 0.0_rp                         !< [degrees]
     character(len=1) :: dip_axis = ''
     real(rp) :: lower(3) = -huge(1.0_rp), upper(3) = huge(1.0_rp)   !< [m]
+    real(rp) :: radius = 0.0_rp                      !< [m] of a circular fault; 0: none (the rectangle)
+    real(rp) :: centre(3) = 0.0_rp                   !< [m] centre of the disc (in-plane components used)
     ! contact properties
     real(rp) :: friction_angle = 30.0_rp             !< [degrees]
     real(rp) :: cohesion = 0.0_rp                    !< [Pa]
@@ -77,20 +84,20 @@ contains
     character(len=*), intent(in) :: source
     character(len=name_len) :: name
     character(len=1) :: normal_axis, dip_axis
-    real(rp) :: position, dip, lower(3), upper(3), friction_angle, cohesion, pressure
+    real(rp) :: position, dip, lower(3), upper(3), radius, centre(3), friction_angle, cohesion, pressure
     character(len=path_len) :: pressure_history
     character(len=8) :: initial_state
     integer :: k, j, i, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     character(len=8) :: ic
-    namelist /fault/ name, normal_axis, position, dip, dip_axis, lower, upper, friction_angle, cohesion, &
-                     pressure, pressure_history, initial_state
+    namelist /fault/ name, normal_axis, position, dip, dip_axis, lower, upper, radius, centre, friction_angle, &
+                     cohesion, pressure, pressure_history, initial_state
 
     allocate(faults(d%count('fault')))
     do k = 1, size(faults)
       name = ''; normal_axis = ' '; position = unset_real; dip = unset_real; dip_axis = ' '
-      lower = unset_real; upper = unset_real
+      lower = unset_real; upper = unset_real; radius = unset_real; centre = unset_real
       friction_angle = 30.0_rp; cohesion = 0.0_rp; pressure = 0.0_rp; pressure_history = ''
       initial_state = 'stick'
       call d%block('fault', k, b)
@@ -136,6 +143,7 @@ contains
         end do
         where (lower == unset_real) lower = -huge(1.0_rp)
         where (upper == unset_real) upper = huge(1.0_rp)
+        call check_disc()
       case ('gmsh')
         if (normal_axis /= ' ') call gmsh_refuses('normal_axis')
         if (position /= unset_real) call gmsh_refuses('position')
@@ -143,8 +151,11 @@ contains
         if (dip_axis /= ' ') call gmsh_refuses('dip_axis')
         if (any(lower /= unset_real)) call gmsh_refuses('lower')
         if (any(upper /= unset_real)) call gmsh_refuses('upper')
+        if (radius /= unset_real) call gmsh_refuses('radius')
+        if (any(centre /= unset_real)) call gmsh_refuses('centre')
         normal_axis = 'y'; dip = 0.0_rp; dip_axis = 'x'
         lower = -huge(1.0_rp); upper = huge(1.0_rp)
+        radius = 0.0_rp; centre = 0.0_rp
       case default
         call status%set("read_faults: unknown mesh source '"//trim(source)//"'")
       end select
@@ -162,6 +173,8 @@ contains
       faults(k)%dip_axis = dip_axis
       faults(k)%lower = lower
       faults(k)%upper = upper
+      faults(k)%radius = radius
+      faults(k)%centre = centre
       faults(k)%friction_angle = friction_angle
       faults(k)%cohesion = cohesion
       faults(k)%pressure = pressure
@@ -170,6 +183,35 @@ contains
       faults(k)%box_geometry = source == 'box'
     end do
   contains
+    !> radius and centre of a circular fault (box): radius > 0, dip = 0, the
+    !> in-plane components of centre given; without radius, no centre.
+    !> Leaves radius = 0 (no disc) or the disc with centre's normal
+    !> component on the plane (position) when the deck left it out.
+    subroutine check_disc()
+      integer :: a, c
+      a = index(axes, normal_axis)
+      if (radius == unset_real) then
+        if (any(centre /= unset_real)) &
+          call d%fail(status, 'fault', k, 'centre', 'is the centre of a circular fault and needs radius')
+        radius = 0.0_rp; centre = 0.0_rp
+        return
+      end if
+      if (.not. (radius > 0.0_rp)) &
+        call d%fail(status, 'fault', k, 'radius', 'must be positive (got '//rtoa(radius)//')')
+      if (dip /= 0.0_rp) &
+        call d%fail(status, 'fault', k, 'radius', 'a circular fault must have dip = 0 (got dip = '//rtoa(dip)// &
+                    '): the disc of a dipping fault is not supported')
+      do c = 1, 3
+        if (c == a .or. centre(c) /= unset_real) cycle
+        write(ic, '(i0)') c
+        call d%fail(status, 'fault', k, 'centre('//trim(ic)//')', 'required with radius (the in-plane '// &
+                    'components of the centre of the disc)')
+      end do
+      if (a > 0) then
+        if (centre(a) == unset_real) centre(a) = position
+      end if
+    end subroutine check_disc
+
     subroutine gmsh_refuses(var)
       character(len=*), intent(in) :: var
       call d%fail(status, 'fault', k, var, "only for a box mesh: with source = 'gmsh' the mesh file holds the "// &
@@ -182,7 +224,7 @@ contains
   subroutine describe_fault(self, g)
     class(fault_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    character(len=8) :: v
+    character(len=10) :: v
     integer :: i
     call g%init('fault')
     call g%add('name', self%name, '-', 'name of the fault')
@@ -207,6 +249,15 @@ contains
           call g%add_unset(trim(v), '(none: the box edge)', 'm', 'upper in-plane bound of the fault')
         end if
       end do
+      if (self%radius > 0.0_rp) then
+        call g%add('radius', self%radius, 'm', 'radius of the circular fault')
+        do i = 1, 3
+          write(v, '(a,i0,a)') 'centre(', i, ')'
+          call g%add(trim(v), self%centre(i), 'm', 'centre of the circular fault (in-plane components used)')
+        end do
+      else
+        call g%add_unset('radius', '(none: the rectangle lower..upper)', 'm', 'radius of the circular fault')
+      end if
     end if
     call g%add('friction_angle', self%friction_angle, 'degrees', 'Coulomb friction angle')
     call g%add('cohesion', self%cohesion, 'Pa', 'cohesion')

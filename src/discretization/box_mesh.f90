@@ -36,8 +36,10 @@
 !> along its own normal, so two inclined faults with different normal axes
 !> are not exactly planar (vertical ones placed on existing node layers are).
 !> The fault's quads are the faces of its layer whose centres (before the
-!> maps) lie within [lower, upper] in the two in-plane coordinates; they form
-!> a tagged set named after the fault (split later by fault_split). A map
+!> maps) lie within [lower, upper] in the two in-plane coordinates and, for
+!> a circular fault (radius > 0, dip = 0), within radius of its centre in
+!> the plane (a staircase disc); they form a tagged set named after the
+!> fault (split later by fault_split). A map
 !> that inverts a cell (a non-positive Jacobian at a 2x2x2 Gauss point) is an
 !> error naming the fault: the dip is too steep for the box's aspect ratio.
 !> A dipped fracture with tips along dip_axis then has the cells around it
@@ -344,6 +346,10 @@ contains
         call status%set("box mesh: fault '"//trim(faults(f)%name)//"': bad normal_axis or dip_axis")
         return
       end if
+      if (faults(f)%radius > 0.0_rp .and. faults(f)%dip /= 0.0_rp) then
+        call status%set("box mesh: fault '"//trim(faults(f)%name)//"': a circular fault (radius) must have dip = 0")
+        return
+      end if
       if (.not. (faults(f)%position > lo(a) .and. faults(f)%position < hi(a))) then
         call status%set("box mesh: fault '"//trim(faults(f)%name)//"': position "//rtoa(faults(f)%position)// &
                         ' lies outside the box along '//axis_name(a:a)//' ('//rtoa(lo(a))//' to '//rtoa(hi(a))//')')
@@ -386,7 +392,12 @@ contains
       names(size(mesh%set_names) + f) = faults(f)%name
       call fault_quads(n, pts, faults(f), layer(f), quads)
       nq = size(quads, 2, kind=ip)
-      if (nq == 0) then
+      if (nq == 0 .and. faults(f)%radius > 0.0_rp) then
+        call status%set("box mesh: fault '"//trim(faults(f)%name)//"': no cell face of its node layer has its "// &
+                        'centre within lower..upper and within radius '//rtoa(faults(f)%radius)// &
+                        ' of centre; move the disc or refine the mesh')
+        return
+      else if (nq == 0) then
         call status%set("box mesh: fault '"//trim(faults(f)%name)//"': no cell face of its node layer has its "// &
                         'centre within lower..upper')
         return
@@ -542,7 +553,9 @@ contains
   end function box_node
 
   !> The quads of fault f on node layer l whose centres (of the undisplaced
-  !> grid pts) lie within [lower, upper] in the in-plane coordinates; nodes
+  !> grid pts) lie within [lower, upper] in the in-plane coordinates and,
+  !> for a circular fault (radius > 0), within radius of its centre; a
+  !> centre on a bound or on the circle (to 1e-9 of the box) counts. Nodes
   !> counter-clockwise about the normal axis.
   subroutine fault_quads(n, pts, fault, l, quads)
     integer(ip), intent(in) :: n(3), l
@@ -550,12 +563,13 @@ contains
     type(fault_config_t), intent(in) :: fault
     integer(ip), allocatable, intent(out) :: quads(:,:)
     integer(ip) :: a, b1, b2, i1, i2, nq, ijk(3)
-    real(rp) :: c1, c2, tol1, tol2
+    real(rp) :: c1, c2, tol1, tol2, tol_r
     a = int(fault%normal_index(), ip)
     b1 = 1 + mod(a, 3_ip)
     b2 = 1 + mod(a + 1, 3_ip)
     tol1 = 1.0e-9_rp * (pts(n(b1)+1, b1) - pts(1, b1))
     tol2 = 1.0e-9_rp * (pts(n(b2)+1, b2) - pts(1, b2))
+    tol_r = max(tol1, tol2)
     allocate(quads(4, n(b1) * n(b2)))
     nq = 0
     do i2 = 0, n(b2) - 1
@@ -564,6 +578,9 @@ contains
         c2 = 0.5_rp * (pts(i2+1, b2) + pts(i2+2, b2))
         if (c1 < fault%lower(b1) - tol1 .or. c1 > fault%upper(b1) + tol1) cycle
         if (c2 < fault%lower(b2) - tol2 .or. c2 > fault%upper(b2) + tol2) cycle
+        if (fault%radius > 0.0_rp) then
+          if (hypot(c1 - fault%centre(b1), c2 - fault%centre(b2)) > fault%radius + tol_r) cycle
+        end if
         nq = nq + 1
         ijk(a) = l
         ijk(b1) = i1; ijk(b2) = i2

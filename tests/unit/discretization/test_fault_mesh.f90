@@ -5,7 +5,7 @@
 !> Run on 1, 2 and 3 ranks; the global meshes are small and every rank builds
 !> its own copy, so global expectations are checked on every rank.
 program test_fault_mesh
-  use strings, only: rtoa
+  use strings, only: rtoa, itoa
   use kinds, only: rp, ip, gp, msg_len, path_len
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
@@ -161,6 +161,7 @@ program test_fault_mesh
   ok = all(g%iface_fault(1:8) == 1) .and. all(g%iface_fault(9:16) == 2)
   call suite%assert_true(ok, 'crossing faults: elements ordered by fault')
 
+  call test_disc()
   call test_core()
   call test_split_errors()
   call test_gmsh()
@@ -327,6 +328,95 @@ contains
       end do
     end do
   end function mesh_volume
+
+  ! ---- circular faults (&fault radius, centre): staircase discs ----------------------------------
+  !> A disc inside the box, the same disc cut by upper(1) (a chord), and the
+  !> quarter disc of tests/decks/flow_penny.nml (centre on the box corner,
+  !> reaching the faces xmin and ymin), each on a uniform grid.
+  subroutine test_disc()
+    call one_disc('disc', [20_ip, 20_ip, 2_ip], [2.0_rp, 2.0_rp, 1.0_rp], 0.73_rp, [0.95_rp, 1.05_rp], huge(1.0_rp))
+    call one_disc('chord', [20_ip, 20_ip, 2_ip], [2.0_rp, 2.0_rp, 1.0_rp], 0.73_rp, [0.95_rp, 1.05_rp], 1.2_rp)
+    call one_disc('quarter', [15_ip, 15_ip, 2_ip], [1.5_rp, 1.5_rp, 1.0_rp], 1.0_rp, [0.0_rp, 0.0_rp], huge(1.0_rp))
+  end subroutine test_disc
+
+  !> Fault 'name' normal to z at mid-height of the box [0, hi] of n cells,
+  !> radius r about (c(1), c(2)), x <= x_max. Counted here from the grid
+  !> alone: the selected quads (centre within r of c and x <= x_max), the
+  !> split layer nodes (those whose every quad around them in the box, 4
+  !> inside, 2 on a face, 1 on an edge, is selected; the cells around the
+  !> others stay joined through a quad that is not the fault's) and the tip
+  !> positions of the elements (their nodes that are not split). The mesh
+  !> must have exactly these, and consistent interface elements.
+  subroutine one_disc(name, n, hi, r, c, x_max)
+    character(len=*), intent(in) :: name
+    integer(ip), intent(in) :: n(3)
+    real(rp), intent(in) :: hi(3), r, c(2), x_max
+    type(mesh_t) :: g
+    type(error_status_t) :: st
+    type(fault_config_t) :: f(1)
+    logical :: sel(0:n(1)-1, 0:n(2)-1), split(0:n(1), 0:n(2)), seen(0:n(1)-1, 0:n(2)-1)
+    real(rp) :: h(2), x(3)
+    integer(ip) :: i, j, e, k, n_split, n_tips, bad
+    h = hi(1:2) / real(n(1:2), rp)
+    do j = 0, n(2) - 1
+      do i = 0, n(1) - 1
+        sel(i, j) = hypot((i + 0.5_rp) * h(1) - c(1), (j + 0.5_rp) * h(2) - c(2)) <= r .and. &
+                    (i + 0.5_rp) * h(1) <= x_max
+      end do
+    end do
+    do j = 0, n(2)
+      do i = 0, n(1)
+        split(i, j) = all(sel(max(i - 1, 0_ip):min(i, n(1) - 1), max(j - 1, 0_ip):min(j, n(2) - 1)))
+      end do
+    end do
+    n_tips = 0
+    do j = 0, n(2) - 1
+      do i = 0, n(1) - 1
+        if (sel(i, j)) n_tips = n_tips + count(.not. [split(i, j), split(i + 1, j), split(i, j + 1), split(i + 1, j + 1)])
+      end do
+    end do
+    f(1) = fault_config_t(name=name, normal_axis='z', position=0.5_rp * hi(3), radius=r, centre=[c(1), c(2), 0.0_rp], &
+                          upper=[x_max, huge(1.0_rp), huge(1.0_rp)])
+    call box_with_faults(g, n, hi, f, st, n_split)
+    call suite%assert_true(st%ok(), name//': built and split: '//trim(st%msg))
+    if (.not. st%ok()) return
+    call suite%assert_equal_int(g%n_ifaces, count(sel), name//': interface elements = quads with centres in the disc '// &
+                                '(counted: '//itoa(count(sel))//')')
+    ! the same quads: every element's centre falls in a selected quad, each quad once
+    seen = .false.
+    bad = 0
+    do e = 1, g%n_ifaces
+      x = sum(g%coords(:, g%iface_nodes(:, 1, e)), dim=2) / 4.0_rp
+      i = int(x(1) / h(1), ip)
+      j = int(x(2) / h(2), ip)
+      if (i < 0 .or. i >= n(1) .or. j < 0 .or. j >= n(2)) then
+        bad = bad + 1
+      else
+        if (.not. sel(i, j) .or. seen(i, j)) bad = bad + 1
+        seen(i, j) = .true.
+      end if
+    end do
+    call suite%assert_equal_int(bad, 0, name//': the elements are the selected quads, each once')
+    call suite%assert_equal_int(n_split, count(split), name//': split nodes (counted: '//itoa(count(split))//')')
+    call suite%assert_equal_int(g%n_nodes, product(n + 1) + count(split), name//': one node added per split node')
+    call suite%assert_equal_int(count(g%iface_nodes(:, 1, :) == g%iface_nodes(:, 2, :)), n_tips, &
+                                name//': element nodes on the tip line keep one node (counted: '//itoa(n_tips)//')')
+    ! node by node: split exactly where counted
+    bad = 0
+    do e = 1, g%n_ifaces
+      do k = 1, 4
+        x = g%coords(:, g%iface_nodes(k, 1, e))
+        i = nint(x(1) / h(1), ip)
+        j = nint(x(2) / h(2), ip)
+        if (split(i, j) .neqv. g%iface_nodes(k, 1, e) /= g%iface_nodes(k, 2, e)) bad = bad + 1
+      end do
+    end do
+    call suite%assert_equal_int(bad, 0, name//': each element node split exactly where counted')
+    call suite%assert_equal_int(iface_violations(g), 0, name//': interface elements consistent')
+    call suite%assert_true(count(split) > 0 .and. n_tips > 0, name//': the disc has split nodes and tips')
+    call g%check(st)
+    call suite%assert_true(st%ok(), name//': mesh check passes')
+  end subroutine one_disc
 
   ! ---- core refinement --------------------------------------------------------------------------
   subroutine test_core()
@@ -557,8 +647,9 @@ contains
 
   ! ---- decks: the bad &fault decks, a bad core, and a good deck through build_mesh --------------
   subroutine test_decks()
-    character(len=*), parameter :: bad(8) = [character(len=16) :: 'dip', 'dip_axis', 'duplicate', 'friction', &
-                                             'position', 'steep', 'gmsh_geometry', 'no_set']
+    character(len=*), parameter :: bad(13) = [character(len=16) :: 'dip', 'dip_axis', 'duplicate', 'friction', &
+                                             'position', 'steep', 'gmsh_geometry', 'no_set', 'radius', 'radius_dip', &
+                                             'radius_gmsh', 'centre_alone', 'disc_empty']
     character(len=path_len) :: path
     character(len=msg_len) :: expect, msg
     type(error_status_t) :: st
