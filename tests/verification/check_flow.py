@@ -5,6 +5,14 @@
                                       compressibility storage = Q dt (relative to Q dt)
     check_flow.py sneddon RUN Q LZ TOL  mean pressure at the last step against
                                       E (Q/LZ) t / (2 pi (1 - nu^2) b^2)
+    check_flow.py penny RUN TOL       mean pressure of one circular fracture (&fault radius)
+                                      at every step against Sneddon's penny crack,
+                                      p = 3 E V / (16 (1 - nu^2) a_eq^3): V the volume injected
+                                      so far (the wells' rates of the probes CSV over the steps),
+                                      a_eq = sqrt(A / pi) of the staircase disc's area A; a disc
+                                      whose centre lies on box faces (symmetry planes) is a half
+                                      or quarter model, and V and A count the full disc; the
+                                      fracture's fluid volume must equal V (1e-10)
     check_flow.py same RUN1 RUN2 TOL  pressure and opening of two runs (by element centre)
     check_flow.py cubic RUN A0 MU DP L TOL  steady flow between two prescribed pressures: the
                                       flux of every element between them against
@@ -70,6 +78,57 @@ def sneddon(path, q, lz, tol):
     print(f"sneddon: t = {t:g} s, mean p {mean:.6e} Pa, exact {exact:.6e} Pa, error {err:.3e}, spread {spread:.2e}, "
           f"largest flux {fmax:.3e} m2/s (Q / (2 LZ) = {q / (2 * lz):.3e})")
     return err <= tol and np.all(np.isfinite(flux)) and 0.0 < fmax <= q / (2 * lz) * (1 + 1e-12)
+
+
+def penny(path, tol):
+    import csv
+    run = load(path)
+    par = run.parameters()
+    e, nu = float(par["material"][0]["young"]), float(par["material"][0]["poisson"])
+    faults = par["fault"]
+    if len(faults) != 1 or "radius" not in faults[0]:
+        print("penny: the run must have one &fault, with a radius (a circular fracture)")
+        return False
+    fault, mesh = faults[0], par["mesh"][0]
+    normal = "xyz".index(fault["normal_axis"])
+    lower = np.asarray(mesh["lower"], dtype=float)
+    upper = np.asarray(mesh["upper"], dtype=float)
+    centre = np.asarray(fault["centre"], dtype=float)
+    tol_box = 1e-12 * np.abs(upper - lower).max()
+    # each box face through the disc's centre is a symmetry plane that halves the model
+    cut = [i for i in range(3) if i != normal and min(abs(centre[i] - lower[i]), abs(centre[i] - upper[i])) <= tol_box]
+    parts = 2 ** len(cut)
+    with open(path + "_probes.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    t = np.array([float(r["time [s]"]) for r in rows])
+    rates = [c for c in rows[0] if c.endswith(":rate [m3/s]")]
+    q = np.array([sum(float(r[c]) for c in rates) for r in rows])
+    # injected volume of the full disc up to each row (implicit Euler: the step's rate over the step)
+    injected = parts * np.concatenate([[0.0], np.cumsum(q[1:] * np.diff(t))])
+    held = parts * np.array([float(r[fault["name"] + ":fluid_volume [m3]"]) for r in rows])
+    _, _, _, _, area = fields(run, -1)
+    a_eq = np.sqrt(parts * np.sum(area) / np.pi)
+    compliance = 16.0 * (1.0 - nu**2) * a_eq**3 / (3.0 * e)    # Sneddon: V = compliance * p
+    errs = []
+    for k, tk in enumerate(run.times()):
+        row = np.flatnonzero(np.abs(t - tk) <= 1e-12 * max(abs(tk), 1.0))
+        if tk <= 0.0 or len(row) != 1:
+            continue
+        _, _, p, _, area = fields(run, k)
+        exact = injected[row[0]] / compliance
+        mean = np.sum(area * p) / np.sum(area)
+        errs.append((abs(mean - exact) / exact, tk, mean, exact, (p.max() - p.min()) / exact))
+    if not errs:
+        print("penny: no output step after t = 0 with a row of the probes file")
+        return False
+    err, tk, mean, exact, spread = errs[-1]
+    worst = max(x[0] for x in errs)
+    balance = float(np.abs(held - injected).max() / injected[-1])
+    print(f"penny: 1/{parts} model, {len(p)} elements, a_eq {a_eq:.5f} m (radius {float(fault['radius']):g} m); "
+          f"t = {tk:g} s: V = {injected[-1]:.6e} m3, mean p {mean:.6e} Pa, exact {exact:.6e} Pa, error {err:.3e}, "
+          f"spread {spread:.2e}; largest error of the {len(errs)} steps {worst:.3e}; "
+          f"fluid volume - injected {balance:.1e}")
+    return worst <= tol and balance <= 1e-10
 
 
 def same(a, b, tol):
@@ -148,6 +207,8 @@ if __name__ == "__main__":
         ok = mass(args[0], float(args[1]), float(args[2]))
     elif cmd == "sneddon":
         ok = sneddon(args[0], float(args[1]), float(args[2]), float(args[3]))
+    elif cmd == "penny":
+        ok = penny(args[0], float(args[1]))
     elif cmd == "cubic":
         ok = cubic(args[0], *[float(v) for v in args[1:6]])
     elif cmd == "onset":
