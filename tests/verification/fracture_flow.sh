@@ -78,8 +78,10 @@ run penny 2 && check "penny-shaped fracture, h = a/12: mean pressure vs Sneddon'
 if run penny_coarse 2 && [ -f "$out/penny_probes.csv" ]; then
   e1=$($PY tests/verification/check_flow.py penny "$out/penny_coarse" 1 | sed -E 's/.*, error ([0-9.e+-]+),.*/\1/')
   e2=$($PY tests/verification/check_flow.py penny "$out/penny" 1 | sed -E 's/.*, error ([0-9.e+-]+),.*/\1/')
-  if awk -v a="$e1" -v b="$e2" 'BEGIN {exit !(b < a)}'; then ok "penny: the pressure error falls: h = a/6 $e1, h = a/12 $e2"
-  else ko "penny: the pressure error does not fall: h = a/6 $e1, h = a/12 $e2"; fi
+  # first order, as in plane strain (README: 2.89 % at h = a/48, measured once)
+  if awk -v a="$e1" -v b="$e2" 'BEGIN {exit !(b < a && log(a / b) / log(2) >= 0.7)}'; then
+    ok "penny: the pressure error falls at order >= 0.7: h = a/6 $e1, h = a/12 $e2 (order $(awk -v a="$e1" -v b="$e2" 'BEGIN {printf "%.2f", log(a / b) / log(2)}'))"
+  else ko "penny: the pressure error does not fall at order >= 0.7: h = a/6 $e1, h = a/12 $e2"; fi
 fi
 run penny_coarse1 1 && check "penny, h = a/6, 1 vs 2 ranks (1e-8)" $PY tests/verification/check_flow.py same \
   "$out/penny_coarse1" "$out/penny_coarse" 1e-8
