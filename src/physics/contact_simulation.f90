@@ -299,6 +299,7 @@ contains
     real(rp), parameter :: max_tip_skew = 5.0_rp
     real(rp), allocatable :: skew(:)
     integer :: f
+    allocate(skew(size(self%faults)))
     skew = self%phys%tip_skew(self%mesh)
     do f = 1, size(skew)
       if (skew(f) > max_tip_skew) call log%warn("fault '"//trim(self%faults(f)%name)// &
@@ -544,6 +545,7 @@ contains
     character(len=msg_len) :: starts
     integer :: f, n, k
     character(len=5), parameter :: what(3) = ['stick', 'slip ', 'open ']
+    allocate(now(3, size(self%mesh%fault_names)))
     now = counts_per_fault(self)
     allocate(lines(size(now, 2)))
     n = 0

@@ -11,7 +11,7 @@
 !>    central differences.
 !> Run on 1 and 2 ranks (edges across the partition); from the repository root.
 program test_fracture_flow
-  use kinds, only: rp, ip, gp
+  use kinds, only: rp, ip
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
   use logger, only: logger_t
