@@ -113,10 +113,12 @@ contains
     end if
   end subroutine read_deck
 
-  !> &fracture_flow and &well (with their histories) of a 'fracture_flow'
-  !> run, which steps in time; the fluid pressure is an unknown there, so a
-  !> fault's prescribed pressure is refused, and only MUMPS solves the u-t-p
-  !> system for now (its block preconditioner is not built yet).
+  !> &fracture_flow, &well and &fracture_pressure (with their histories) of
+  !> a 'fracture_flow' run, which steps in time; the fluid pressure is an
+  !> unknown there, so a fault's prescribed pressure is refused. An
+  !> incompressible fluid in a fault that starts closed with no prescribed
+  !> pressure is refused too: nothing stores the fluid there, and the
+  !> pressure system is singular.
   subroutine read_flow_groups(self, d, log, status)
     type(contact_simulation_t), intent(inout) :: self
     type(deck_t), intent(in) :: d
@@ -136,6 +138,15 @@ contains
           "'fracture_flow' (set its start with &fracture_flow initial_pressure)")
         return
       end if
+    end do
+    do k = 1, size(self%faults)
+      if (self%fcfg%compressibility > 0.0_rp .or. self%faults(k)%initial_state == 'open') cycle
+      if (any(self%pbcs%fault == self%faults(k)%name)) cycle
+      call d%fail(status, 'fracture_flow', 1, 'compressibility', "is 0 while fault '"//trim(self%faults(k)%name)// &
+        "' starts closed (initial_state = '"//trim(self%faults(k)%initial_state)//"') with no &fracture_pressure:"// &
+        " an incompressible fluid in a closed fracture leaves its pressure undetermined (a singular system);"// &
+        " give compressibility > 0 (water: 4.5e-10 1/Pa) or start the fault open")
+      return
     end do
     if (self%solver%method /= 'mumps' .and. self%ccfg%block /= 'reordered') call status%set("deck '"// &
       trim(d%path)//"', group &contact, variable block: physics = 'fracture_flow' has the 'reordered' block "// &
