@@ -233,22 +233,8 @@ contains
       call g%add('position', self%position, 'm', 'coordinate along normal_axis at mid-box along dip_axis')
       call g%add('dip', self%dip, 'degrees', 'inclination along dip_axis')
       call g%add('dip_axis', self%dip_axis, '-', 'axis along which the fault rises')
-      do i = 1, 3
-        write(v, '(a,i0,a)') 'lower(', i, ')'
-        if (self%lower(i) > -huge(1.0_rp)) then
-          call g%add(trim(v), self%lower(i), 'm', 'lower in-plane bound of the fault')
-        else
-          call g%add_unset(trim(v), '(none: the box edge)', 'm', 'lower in-plane bound of the fault')
-        end if
-      end do
-      do i = 1, 3
-        write(v, '(a,i0,a)') 'upper(', i, ')'
-        if (self%upper(i) < huge(1.0_rp)) then
-          call g%add(trim(v), self%upper(i), 'm', 'upper in-plane bound of the fault')
-        else
-          call g%add_unset(trim(v), '(none: the box edge)', 'm', 'upper in-plane bound of the fault')
-        end if
-      end do
+      call g%add_bounds('lower', self%lower, '(none: the box edge)', 'm', 'lower in-plane bound of the fault')
+      call g%add_bounds('upper', self%upper, '(none: the box edge)', 'm', 'upper in-plane bound of the fault')
       if (self%radius > 0.0_rp) then
         call g%add('radius', self%radius, 'm', 'radius of the circular fault')
         do i = 1, 3

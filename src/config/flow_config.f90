@@ -138,24 +138,10 @@ contains
   subroutine describe_pressure_bc(self, g)
     class(pressure_bc_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    character(len=12) :: v
-    integer :: i
     call g%init('fracture_pressure')
     call g%add('fault', self%fault, '-', 'the fault whose elements get the pressure')
-    do i = 1, 3
-      write(v, '(a,i0,a)') 'lower(', i, ')'
-      if (self%lower(i) > -huge(1.0_rp)) then
-        call g%add(trim(v), self%lower(i), 'm', 'lower bound of the element centres')
-      else
-        call g%add_unset(trim(v), '(none)', 'm', 'lower bound of the element centres')
-      end if
-      write(v, '(a,i0,a)') 'upper(', i, ')'
-      if (self%upper(i) < huge(1.0_rp)) then
-        call g%add(trim(v), self%upper(i), 'm', 'upper bound of the element centres')
-      else
-        call g%add_unset(trim(v), '(none)', 'm', 'upper bound of the element centres')
-      end if
-    end do
+    call g%add_bounds('lower', self%lower, '(none)', 'm', 'lower bound of the element centres')
+    call g%add_bounds('upper', self%upper, '(none)', 'm', 'upper bound of the element centres')
     call g%add('value', self%value, 'Pa', 'prescribed fluid pressure (times the history factor)')
     call g%add('history', self%shape%history, '-', "file of 'time factor' rows scaling the value ('': none)")
   end subroutine describe_pressure_bc

@@ -39,6 +39,7 @@ module param_group
     procedure, private :: add_real, add_reals, add_int, add_ints, add_logical, add_string, add_strings
     generic :: add => add_real, add_reals, add_int, add_ints, add_logical, add_string, add_strings
     procedure :: add_unset
+    procedure :: add_bounds
     procedure :: drop
     procedure :: echo
     procedure :: lines
@@ -152,6 +153,24 @@ contains
     character(len=*), intent(in) :: name, shown, unit, meaning
     call self%push(name, shown, unit, meaning, .false.)
   end subroutine add_unset
+
+  !> name(1..n) of values: each element whose magnitude is below huge is
+  !> set, the others (a bound left open, +-huge) are shown as `shown`.
+  subroutine add_bounds(self, name, values, shown, unit, meaning)
+    class(param_group_t), intent(inout) :: self
+    character(len=*), intent(in) :: name, shown, unit, meaning
+    real(rp), intent(in) :: values(:)
+    character(len=len(name) + 12) :: v
+    integer :: i
+    do i = 1, size(values)
+      write(v, '(a,a,i0,a)') name, '(', i, ')'
+      if (abs(values(i)) < huge(1.0_rp)) then
+        call self%add(trim(v), values(i), unit, meaning)
+      else
+        call self%add_unset(trim(v), shown, unit, meaning)
+      end if
+    end do
+  end subroutine add_bounds
 
   !> Remove variable var (and its elements var(i)), e.g. one the physics
   !> does not use.
