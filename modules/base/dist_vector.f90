@@ -85,27 +85,41 @@ contains
   end function pmax_abs
 
   !> Write the owned parts of a distributed vector (global length n_global) as
-  !> one MatrixMarket array file; ranks append in turn. Collective.
-  subroutine write_vector_market(comm, path, v, n_global, ios)
+  !> one MatrixMarket array file; ranks append in turn. integer: the values
+  !> are whole numbers, written as an integer array; comment: a line of the
+  !> header. Collective.
+  subroutine write_vector_market(comm, path, v, n_global, ios, integer, comment)
     type(parallel_comm_t), intent(in) :: comm
     character(len=*), intent(in) :: path
     real(rp), intent(in) :: v(:)
     integer(gp), intent(in) :: n_global
     integer, intent(out) :: ios
+    logical, intent(in), optional :: integer
+    character(len=*), intent(in), optional :: comment
     integer :: u, p, i
+    logical :: whole
+    whole = .false.
+    if (present(integer)) whole = integer
     ios = 0
     do p = 0, comm%size - 1
       if (comm%rank == p) then
         if (p == 0) then
           open(newunit=u, file=path, status='replace', action='write', iostat=ios)
-          if (ios == 0) write(u, '(a/a/i0,1x,i0)') '%%MatrixMarket matrix array real general', &
-                                                  '% written by geoblock', n_global, 1
+          if (ios == 0) write(u, '(a)') '%%MatrixMarket matrix array '//trim(merge('integer', 'real   ', whole))// &
+                                        ' general'
+          if (ios == 0) write(u, '(a)') '% written by geoblock'
+          if (ios == 0 .and. present(comment)) write(u, '(a)') '% '//comment
+          if (ios == 0) write(u, '(i0,1x,i0)') n_global, 1
         else
           open(newunit=u, file=path, status='old', position='append', action='write', iostat=ios)
         end if
         if (ios == 0) then
           do i = 1, size(v)
-            write(u, '(es24.16e3)') v(i)
+            if (whole) then
+              write(u, '(i0)') nint(v(i))
+            else
+              write(u, '(es24.16e3)') v(i)
+            end if
           end do
           close(u)
         end if

@@ -40,7 +40,7 @@ module linear_solver
   implicit none
   private
 
-  public :: linear_solver_t, solver_methods
+  public :: linear_solver_t, solver_methods, scale_matrix
 
   !> The methods init knows, for error messages.
   character(len=*), parameter :: solver_methods = "'fgmres', 'cg', 'mumps'"

@@ -27,6 +27,9 @@ module linear_system
     logical :: symmetric = .false.                     !< a is symmetric (a direct solver may use LDL^T)
     logical :: changed = .true.                        !< a changed since the last solve (refactorize)
     real(rp) :: setup_time = 0.0_rp                    !< seconds the physics spent setting up m and d
+    !> the fields of the operator's blocks in block order, comma separated
+    !> ('u'; 'u,q,p'; 't,u'; 't,u,p'): named in the matrix export
+    character(len=16) :: fields = ''
     !> The mechanics block and its right-hand side, for the benchmarks'
     !> elastic reference solve (null where the physics has none), and a
     !> BoomerAMG of it that the reference may reuse (null: it makes its own).
@@ -46,5 +49,6 @@ contains
     self%symmetric = .false.
     self%changed = .true.
     self%setup_time = 0.0_rp
+    self%fields = ''
   end subroutine reset
 end module linear_system

@@ -36,6 +36,12 @@
 !>             factorized there: repeats are bit-identical) or 'distributed'
 !>             (over all ranks: memory spread, but the last digits change
 !>             from run to run)                                         ['host']
+!>   export_step  write the linear system of this step (0: the equilibrium
+!>             step of a transient run) as the Krylov solver sees it
+!>             (D A D and D b after the symmetric scaling D): MatrixMarket
+!>             <out>/<prefix>_step<N>_newton<M>_K.mtx, _rhs.mtx, _scaling.mtx
+!>             (D) and _fields.mtx (the block of every row); -1: none     [-1]
+!>   export_newton  the Newton iteration of export_step to write, >= 1    [1]
 module solver_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -64,6 +70,8 @@ module solver_config
     character(len=name_len) :: schur = 'fixed_stress'
     character(len=name_len) :: schur_precon = 'boomeramg'
     character(len=name_len) :: mumps_layout = 'host'
+    integer :: export_step = -1
+    integer :: export_newton = 1
   contains
     procedure :: read => read_solver_config
     procedure :: describe => describe_solver_config
@@ -80,18 +88,20 @@ contains
     character(len=name_len) :: method, precon, block_mode, flux_precon, schur, decoupling, k_precon, schur_precon
     character(len=name_len) :: mumps_layout
     real(rp) :: rtol, atol
-    integer :: max_iter, restart, ios
+    integer :: max_iter, restart, ios, export_step, export_newton
     logical :: fail_on_no_convergence, elastic_reference
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     namelist /solver/ method, precon, rtol, atol, max_iter, restart, fail_on_no_convergence, block_mode, flux_precon, &
-                     elastic_reference, schur, decoupling, k_precon, schur_precon, mumps_layout
+                     elastic_reference, schur, decoupling, k_precon, schur_precon, mumps_layout, export_step, &
+                     export_newton
 
     method = self%method; precon = self%precon; rtol = self%rtol; atol = self%atol
     max_iter = self%max_iter; restart = self%restart; fail_on_no_convergence = self%fail_on_no_convergence
     block_mode = ''; flux_precon = self%flux_precon; elastic_reference = self%elastic_reference
     schur = ''; decoupling = self%decoupling; k_precon = self%k_precon; schur_precon = self%schur_precon
     mumps_layout = self%mumps_layout
+    export_step = self%export_step; export_newton = self%export_newton
     if (d%count('solver') > 0) then
       call d%block('solver', 1, b)
       read(b, nml=solver, iostat=ios, iomsg=msg)
@@ -141,7 +151,13 @@ contains
     if (.not. (atol >= 0.0_rp)) call d%fail(status, 'solver', 1, 'atol', 'must be >= 0 (got '//rtoa(atol)//')')
     if (max_iter < 1) call d%fail(status, 'solver', 1, 'max_iter', 'must be at least 1 (got '//itoa(max_iter)//')')
     if (restart < 1) call d%fail(status, 'solver', 1, 'restart', 'must be at least 1 (got '//itoa(restart)//')')
+    if (export_step < -1) call d%fail(status, 'solver', 1, 'export_step', &
+      'must be a step number >= 0, or -1 for none (got '//itoa(export_step)//')')
+    if (export_newton < 1) call d%fail(status, 'solver', 1, 'export_newton', &
+      'must be at least 1 (got '//itoa(export_newton)//')')
     if (.not. status%ok()) return
+    self%export_step = export_step
+    self%export_newton = export_newton
     self%method = method
     self%precon = precon
     self%rtol = rtol
@@ -180,5 +196,7 @@ contains
     call g%add('schur_precon', self%schur_precon, '-', "biot: Schur preconditioner, 'boomeramg' or 'afsai'")
     call g%add('mumps_layout', self%mumps_layout, '-', "'host' (rank 0 factorizes: bit-identical repeats) or "// &
                "'distributed'")
+    call g%add('export_step', self%export_step, '-', 'write the linear system of this step (-1: none)')
+    call g%add('export_newton', self%export_newton, '-', 'the Newton iteration of export_step to write')
   end subroutine describe_solver_config
 end module solver_config

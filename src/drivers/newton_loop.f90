@@ -34,9 +34,12 @@ module newton_loop
     type(residual_history_t) :: history
     logical :: reference_done = .false.          !< the elastic reference solve was made
     character(len=path_len) :: export_base = ''  !< export the next system to <base>_K.mtx, _rhs.mtx ('' none)
+    character(len=path_len) :: out_base = ''     !< <out>/<prefix>: &solver export_step's files
+    logical :: step_exported = .false.           !< &solver export_step's system was written
   contains
     procedure :: init
     procedure :: solve_step
+    procedure :: check_export
     procedure :: free
     procedure, private :: solve_linear
   end type newton_loop_t
@@ -45,12 +48,13 @@ contains
 
   !> The linear solver of sim's &solver; the residual history file at
   !> history_path; export_base: export the first system there ('' none);
+  !> out_base: <out>/<prefix>, the stem of &solver export_step's files;
   !> keep_through: a restarted run keeps the history rows up to that step.
-  subroutine init(self, comm, sim, history_path, export_base, status, keep_through)
+  subroutine init(self, comm, sim, history_path, export_base, out_base, status, keep_through)
     class(newton_loop_t), intent(inout) :: self
     type(parallel_comm_t), intent(in) :: comm
     class(simulation_t), intent(in) :: sim
-    character(len=*), intent(in) :: history_path, export_base
+    character(len=*), intent(in) :: history_path, export_base, out_base
     type(error_status_t), intent(inout) :: status
     integer, intent(in), optional :: keep_through
     associate (s => sim%solver)
@@ -59,6 +63,7 @@ contains
     end associate
     call self%history%open(comm, history_path, keep_through)
     self%export_base = export_base
+    self%out_base = out_base
   end subroutine init
 
   !> Iterate step `step` (sub-step from sim's accepted state to time t,
@@ -115,6 +120,7 @@ contains
     character(len=*), intent(out) :: why
     type(error_status_t) :: status
     type(solve_info_t) :: info
+    character(len=path_len) :: base
     logical :: has_nan
     why = ''
     its = 0
@@ -132,6 +138,15 @@ contains
                                      trim(self%export_base)//'_rhs.mtx')
       if (.not. status%ok()) call log%fatal(sim%comm, status%msg)
       self%export_base = ''
+    end if
+    if (step == sim%solver%export_step .and. it == sim%solver%export_newton .and. .not. self%step_exported) then
+      base = trim(self%out_base)//'_step'//itoa(step)//'_newton'//itoa(it)
+      call export_system(sim%comm, self%sys, trim(base), status, scaled=.true.)
+      if (.not. status%ok()) call log%fatal(sim%comm, status%msg)
+      call log%info('step '//itoa(step)//', Newton iteration '//itoa(it)//': the linear system as the solver '// &
+                    'sees it written to '//trim(base)//'_K.mtx, _rhs.mtx, _fields.mtx'// &
+                    trim(merge(', _scaling.mtx', '              ', associated(self%sys%d))))
+      self%step_exported = .true.
     end if
     if (sim%solver%elastic_reference .and. .not. self%reference_done .and. associated(self%sys%k_ref)) then
       call solve_elastic_reference(sim%comm, log, self%sys%k_ref, self%sys%b_ref, sim%solver%rtol, &
@@ -160,6 +175,17 @@ contains
       end if
     end if
   end subroutine solve_linear
+
+  !> A warning when &solver export_step named a step the run did not reach
+  !> or an iteration its Newton loop did not make. Collective.
+  subroutine check_export(self, sim, log)
+    class(newton_loop_t), intent(in) :: self
+    class(simulation_t), intent(in) :: sim
+    type(logger_t), intent(inout) :: log
+    if (sim%solver%export_step < 0 .or. self%step_exported) return
+    call log%warn('&solver export_step = '//itoa(sim%solver%export_step)//', export_newton = '// &
+                  itoa(sim%solver%export_newton)//': the run made no such linear system; nothing was exported')
+  end subroutine check_export
 
   subroutine free(self)
     class(newton_loop_t), intent(inout) :: self

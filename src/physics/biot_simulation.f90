@@ -162,6 +162,7 @@ contains
     sys%a => self%phys%sys
     sys%b => self%phys%rhs
     sys%x => self%phys%x
+    sys%fields = 'u,q,p'
     if (direct) return
     call self%setup_precon(log, status)
     if (.not. status%ok()) return

@@ -186,7 +186,8 @@ contains
     if (.not. status%ok()) return
     call warn_tip_skew(self, log)
     call log%info('unknowns: u '//itoa(int(self%phys%mech%u%map%n_global))//', t '// &
-      itoa(int(self%phys%t%map%n_global))//' ('//itoa(int(mesh%iface_map%n_global))//' interface elements, '// &
+      itoa(int(self%phys%t%map%n_global))//trim(merge(', p '//itoa(int(mesh%iface_map%n_global)), repeat(' ', 24), &
+      self%phys%flow))//' ('//itoa(int(mesh%iface_map%n_global))//' interface elements, '// &
       itoa(int(self%comm%sum(self%phys%edges%n)))//' stabilization edge entries)')
     if (self%solver%method == 'mumps') then
       call log%info('linear solver: MUMPS (direct) at every Newton iteration')
@@ -252,6 +253,7 @@ contains
     sys%a => self%phys%sys
     sys%b => self%phys%rhs
     sys%x => self%dx
+    sys%fields = trim(merge('t,u', 'u,t', self%phys%bt == 1))//trim(merge(',p', '  ', self%phys%flow))
     if (direct) then
       call scaling(self)
       sys%d => self%dsc

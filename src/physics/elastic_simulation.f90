@@ -134,6 +134,7 @@ contains
     sys%a => self%mech%k
     sys%b => self%mech%rhs
     sys%x => self%x
+    sys%fields = 'u'
     sys%symmetric = .true.
     sys%changed = .not. self%solved
     self%solved = .true.

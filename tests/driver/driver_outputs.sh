@@ -74,6 +74,54 @@ print(f"{n} x {m}, {nnz} non-zeros, symmetric positive definite, max |u| {abs(x)
 PY
 ); then ok "MatrixMarket export: $r"; else ko "MatrixMarket export: $r"; fi
 grep -q "max |u| = " "$out/export.stdout" && ok "summary line" || ko "no summary line"
+# 2b. &solver export_step: the u-t-p system of step 2, Newton iteration 2, of
+# flow_states.nml as FGMRES sees it (D A D, D b), on 2 ranks; checked: the
+# block sizes against the log's unknowns, the pressure entering the momentum
+# rows as the normal traction does (A_up = -A_ut P, after undoing D), the
+# pressure rows' positive diagonal, and that no other system was written
+sed -e "s#dir = 'out'#dir = '$out/export_step'#" -e "s#method = 'mumps'#method = 'fgmres', export_step = 2, export_newton = 2#" \
+  -e "s#t_end = 6.0#t_end = 3.0#" tests/decks/flow_states.nml > "$out/export_step.nml"
+if timeout 300 mpirun --oversubscribe -np 2 bin/geoblock "$out/export_step.nml" > "$out/export_step.stdout" 2>&1 < /dev/null \
+   && grep -q "step 2, Newton iteration 2: the linear system as the solver sees it written to" "$out/export_step.stdout"; then
+  ok "export_step deck runs and logs the export"
+else
+  ko "export_step deck fails, see $out/export_step.stdout"
+fi
+if r=$($PY - "$out/export_step" "$out/export_step.stdout" <<'PY' 2>&1
+import sys, glob, re
+import numpy as np
+d, log = sys.argv[1], open(sys.argv[2]).read()
+files = sorted(glob.glob(d + "/*.mtx"))
+base = d + "/flow_states_step2_newton2"
+assert files == sorted(base + s for s in ["_K.mtx", "_rhs.mtx", "_scaling.mtx", "_fields.mtx"]), files
+def array(path):
+    rows = [r for r in open(path).read().split("\n") if r.strip() and not r.startswith("%")]
+    return np.array([float(r) for r in rows[1:]])
+head = open(base + "_fields.mtx").read().split("\n")
+assert head[2] == "% the block of every row of the exported matrix; blocks (1, 2, ...): t,u,p", head[2]
+f = array(base + "_fields.mtx").astype(int)
+dsc, b = array(base + "_scaling.mtx"), array(base + "_rhs.mtx")
+rows = open(base + "_K.mtx").read().split("\n")
+n, m, nnz = map(int, rows[2].split())
+e = np.array([list(map(float, r.split())) for r in rows[3:] if r.strip()])
+assert n == m == len(f) == len(b) == len(dsc) and len(e) == nnz, (n, m, len(f), len(e), nnz)
+k = np.zeros((n, n)); k[e[:, 0].astype(int) - 1, e[:, 1].astype(int) - 1] = e[:, 2]
+u_, t_, p_ = (int(x) for x in re.search(r"unknowns: u (\d+), t (\d+), p (\d+)", log).groups())
+assert [np.sum(f == 2), np.sum(f == 1), np.sum(f == 3)] == [u_, t_, p_], (np.bincount(f), u_, t_, p_)
+assert np.all(dsc > 0) and np.all(np.isfinite(b)) and np.linalg.norm(b) > 0
+a = k / np.outer(dsc, dsc)                       # undo the scaling: A = D^-1 (D A D) D^-1
+it, iu, ip = (np.where(f == j)[0] for j in (1, 2, 3))
+q1 = a[np.ix_(iu, ip)]
+c1n = a[np.ix_(iu, it[0::3])]                    # the normal traction's columns, element by element
+res = np.abs(q1 + c1n).max() / np.abs(q1).max()
+assert res < 1e-12, res
+app = np.diag(a[np.ix_(ip, ip)])
+assert np.all(app > 0), app.min()
+x = np.linalg.solve(k, b)
+print(f"{n} rows (t {t_}, u {u_}, p {p_}), max |A_up + A_ut P| / max |A_up| = {res:.1e}, "
+      f"solvable (|D A D y - D b| = {np.linalg.norm(k @ x - b) / np.linalg.norm(b):.1e})")
+PY
+); then ok "export_step: $r"; else ko "export_step: $r"; fi
 # 3. a fluid source in a sealed rigid box (biot, explicit step times): p = M rate t
 if timeout 120 mpirun --oversubscribe -np 2 bin/geoblock tests/decks/source_test.nml > "$out/source.stdout" 2>&1 < /dev/null; then
   ok "source deck runs"
