@@ -78,6 +78,9 @@ program test_block_precon
   real(rp) :: err, res, thr
   real(rp), allocatable :: mags(:)
   integer(gp) :: nnz_f, nnz_g
+  type(block_matrix_t), target :: ac                 !< section 10: every block coupled
+  type(csr_matrix_t) :: sm(3)                        !< its exact Schur complements
+  real(rp) :: c23(n2, n3), c32(n3, n2)               !< its reduced couplings
 
   call comm%init_world()
   call suite%init('block_precon', comm)
@@ -356,6 +359,64 @@ program test_block_precon
   call bp%free()
   call bq%free()
 
+  ! ---- 10. every block coupled (a chain 1 - 2 - 3 as the fracture flow's
+  ! (t, u, p)): the substitutions with the exact Schur complements
+  ! S_2 = A_22 - A_21 A_11^-1 A_12, S_3 = A_33 - [A_31 A_32] A_12,12^-1 [A_13; A_23]
+  ! and the reduced couplings A_23 - A_21 A_11^-1 A_13, A_32 - A_31 A_11^-1 A_12
+  ! are A^-1: one iteration. (Applying F(1,2) to w_2 and G(3,2) to r_2
+  ! loses F(1,2) F(2,3) and G(3,2) G(2,1): checked to need more.)
+  block
+    real(rp) :: dc(nt, nt), e(nt, nt), s2(n2, n2), s3(n3, n3)
+    real(rp) :: a11i_12(n1, n2), a11i_13(n1, n3), lead(n1 + n2, n1 + n2), lead_i(n1 + n2, n3)
+    integer :: f, g, r0, r1, c0, c1
+    integer, parameter :: lo(3) = [1, n1 + 1, n1 + n2 + 1], hi(3) = [n1, n1 + n2, nt]
+    dc = da                                    ! as section 5 left it (A_33 = 0)
+    call make_rect(e, 5, 11)
+    dc(1:n1, n1+1:n1+n2) = 0.3_rp * e(1:n1, 1:n2)                 ! A_12
+    dc(n1+1:n1+n2, 1:n1) = 0.2_rp * transpose(e(1:n1, n2+1:2*n2))  ! A_21 (not A_12^T)
+    dc(n1+1:n1+n2, n1+n2+1:nt) = -db                              ! A_23
+    a11i_12 = dc(1:n1, n1+1:n1+n2)
+    call dense_solve_many(dc(1:n1, 1:n1), a11i_12)
+    a11i_13 = dc(1:n1, n1+n2+1:nt)
+    call dense_solve_many(dc(1:n1, 1:n1), a11i_13)
+    s2 = dc(n1+1:n1+n2, n1+1:n1+n2) - matmul(dc(n1+1:n1+n2, 1:n1), a11i_12)
+    c23 = dc(n1+1:n1+n2, n1+n2+1:nt) - matmul(dc(n1+1:n1+n2, 1:n1), a11i_13)
+    c32 = dc(n1+n2+1:nt, n1+1:n1+n2) - matmul(dc(n1+n2+1:nt, 1:n1), a11i_12)
+    lead = dc(1:n1+n2, 1:n1+n2)
+    lead_i = dc(1:n1+n2, n1+n2+1:nt)
+    call dense_solve_many(lead, lead_i)
+    s3 = dc(n1+n2+1:nt, n1+n2+1:nt) - matmul(dc(n1+n2+1:nt, 1:n1+n2), lead_i)
+    call ac%init([(int(off(comm%rank + 1, f) - off(comm%rank, f), ip), f = 1, 3)])
+    do f = 1, 3
+      do g = 1, 3
+        r0 = lo(f); r1 = hi(f); c0 = lo(g); c1 = hi(g)
+        call set_block(ac, f, g, dc(r0:r1, c0:c1))
+      end do
+    end do
+    call ac%finalize_assembly()
+    call dense_csr(dc(1:n1, 1:n1), 1, 1, sm(1))
+    call dense_csr(s2, 2, 2, sm(2))
+    call dense_csr(s3, 3, 3, sm(3))
+    call dense_solve(dc, bg, xg)
+    call scatter(xg, xref0)
+    call chain_precon(bp, .true.)
+    call run(bp, ac, xref0, its, res, err, x)
+    call suite%assert_equal_int(its, 1, 'all blocks coupled, exact Schur complements and reduced couplings: 1 iteration')
+    call suite%assert_true(res <= rtol .and. err < sol_tol, 'all blocks coupled: converged to the dense solution')
+    call suite%assert_true(bp%fused(1) .and. bp%fused(2), 'all blocks coupled: rows 1 and 2 fused (S_i applied once)')
+    call bp%free()
+    ! the chain products matter: without the reduced couplings (A_23, A_32
+    ! as they are) the preconditioner is no longer A^-1
+    call chain_precon(bp, .false.)
+    call run(bp, ac, xref0, its, res, err, x)
+    call suite%assert_true(its > 1 .and. res <= rtol, 'all blocks coupled, plain A_23 and A_32: more than 1 iteration')
+    call bp%free()
+    do f = 1, 3
+      call sm(f)%free()
+    end do
+    call ac%free()
+  end block
+
   call direct%free()
   call mono%free()
   call smat%free()
@@ -363,6 +424,39 @@ program test_block_precon
   call suite%finish()
 
 contains
+
+  !> The chain test's preconditioner: S_i by MUMPS (general), every factor
+  !> implicit; reduced: F(2,3) and G(3,2) on the reduced couplings.
+  subroutine chain_precon(p, reduced)
+    type(block_precon_t), intent(inout) :: p
+    logical, intent(in) :: reduced
+    type(csr_matrix_t) :: cm
+    integer :: f
+    call p%init(ac, merge('chain, reduced couplings', 'chain, plain couplings  ', reduced))
+    do f = 1, 3
+      block
+        type(mumps_solver_t), allocatable :: ms
+        type(error_status_t) :: s
+        allocate(ms)
+        call ms%setup(sm(f), s, symmetric=.false.)
+        if (.not. s%ok()) error stop 'test_block_precon: MUMPS failed on a Schur complement'
+        call move_alloc(ms, p%s(f)%p)
+      end block
+    end do
+    call p%set_implicit(1, 2, 1)
+    call p%set_implicit(1, 3, 1)
+    call p%set_implicit(2, 1, 1)
+    call p%set_implicit(3, 1, 1)
+    if (reduced) then
+      call explicit_block(c23, 2, 3, cm)
+      call p%set_implicit(2, 3, 2, coupling=cm)
+      call explicit_block(c32, 3, 2, cm)
+      call p%set_implicit(3, 2, 2, coupling=cm)
+    else
+      call p%set_implicit(2, 3, 2)
+      call p%set_implicit(3, 2, 2)
+    end if
+  end subroutine chain_precon
 
   integer function field_size(f)
     integer, intent(in) :: f
@@ -400,6 +494,17 @@ contains
       end do
     end do
   end subroutine make_rect
+
+  !> x = d^-1 x for a general square d (LAPACK dgesv), many right-hand sides.
+  subroutine dense_solve_many(d, x)
+    real(rp), intent(in) :: d(:,:)
+    real(rp), intent(inout) :: x(:,:)
+    real(rp) :: lu(size(d, 1), size(d, 2))
+    integer :: ipiv(size(d, 1)), info
+    lu = d
+    call dgesv(size(d, 1), size(x, 2), lu, size(d, 1), ipiv, x, size(x, 1), info)
+    if (info /= 0) error stop 'test_block_precon: dgesv failed'
+  end subroutine dense_solve_many
 
   !> x = d^-1 rhs (LU, LAPACK dgesv).
   subroutine dense_solve(d, rhs, x)
