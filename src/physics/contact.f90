@@ -126,9 +126,10 @@ module contact
 contains
 
   !> Fields, patterns, geometry and stabilization of the faults of mesh.
-  !> t_first puts the tractions in block 1 (the reordered preconditioner).
-  !> Collective.
-  subroutine init(self, mesh, mats, bcs, faults, stabilized, t_first, status, fcfg, wells, pbcs)
+  !> t_first puts the tractions in block 1 (the reordered preconditioner);
+  !> p_second (with the fluid) the pressure in block 2, the displacement
+  !> last (the pressure eliminated with the tractions). Collective.
+  subroutine init(self, mesh, mats, bcs, faults, stabilized, t_first, status, fcfg, wells, pbcs, p_second)
     class(contact_t), intent(inout), target :: self
     type(dist_mesh_t), intent(in) :: mesh
     type(material_config_t), intent(in) :: mats(:)
@@ -139,6 +140,7 @@ contains
     type(flow_config_t), intent(in), optional :: fcfg     !< with the fluid: physics 'fracture_flow'
     type(well_config_t), intent(in), optional :: wells(:)
     type(pressure_bc_t), intent(in), optional :: pbcs(:)
+    logical, intent(in), optional :: p_second
     integer(ip), allocatable :: row_ptr(:), col(:), conn8(:,:), self_conn(:,:), pairs(:,:)
     integer(ip) :: e, n, f, nown
 
@@ -151,6 +153,13 @@ contains
     if (t_first) then
       self%bt = 1
       self%bu = 2
+    end if
+    if (present(fcfg) .and. present(p_second)) then
+      if (p_second) then
+        self%bt = 1
+        self%bp = 2
+        self%bu = 3
+      end if
     end if
     n = mesh%n_ifaces
     call self%t%init('traction', mesh%iface_map, 3_ip)
@@ -992,5 +1001,6 @@ contains
     if (allocated(self%faults)) deallocate(self%faults)
     self%bu = 1
     self%bt = 2
+    self%bp = 3
   end subroutine free
 end module contact

@@ -174,7 +174,8 @@ contains
     end if
     if (self%flow) then
       call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
-                          self%solver%method /= 'mumps', status, self%fcfg, self%wells, self%pbcs)
+                          self%solver%method /= 'mumps', status, self%fcfg, self%wells, self%pbcs, &
+                          p_second=self%solver%method /= 'mumps' .and. self%fcfg%pressure_block == 'eliminated')
     else
       call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
                           self%solver%method /= 'mumps' .and. self%ccfg%block /= 'classical', status)
@@ -253,14 +254,15 @@ contains
     sys%a => self%phys%sys
     sys%b => self%phys%rhs
     sys%x => self%dx
-    sys%fields = trim(merge('t,u', 'u,t', self%phys%bt == 1))//trim(merge(',p', '  ', self%phys%flow))
+    sys%fields = block_fields(self%phys)
     if (direct) then
       call scaling(self)
       sys%d => self%dsc
       return
     end if
     t0 = wall_time()
-    call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon)
+    call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon, &
+                        self%fcfg%pressure_block)
     call agree(self%comm, status)
     if (.not. status%ok()) then
       status%msg = 'preconditioner set-up: '//trim(status%msg)
@@ -324,6 +326,20 @@ contains
 
   !> Symmetric scaling 1/sqrt of the diagonal of K (u rows) and of H~ (t rows),
   !> for the Krylov and the direct solver alike.
+  !> The fields of the blocks in block order, comma separated ('t,u,p').
+  function block_fields(phys) result(names)
+    type(contact_t), intent(in) :: phys
+    character(len=16) :: names
+    character(len=1) :: f(3)
+    integer :: nb
+    nb = merge(3, 2, phys%flow)
+    f(phys%bu) = 'u'
+    f(phys%bt) = 't'
+    if (phys%flow) f(phys%bp) = 'p'
+    names = f(1)//','//f(2)
+    if (nb == 3) names = trim(names)//','//f(3)
+  end function block_fields
+
   subroutine scaling(self)
     type(contact_simulation_t), intent(inout) :: self
     integer(ip) :: u0, u1, t0, t1

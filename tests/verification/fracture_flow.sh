@@ -27,7 +27,8 @@
 #    BoomerAMG, by Jacobi) gives MUMPS's pressure and opening to 1e-6;
 #  - the seed's nine-fracture injection case, reduced (tests/decks/flow_nine.nml):
 #    stick, all slipping, open, with a log line per fracture and change; with
-#    FGMRES and the u-t-p preconditioner the same statuses and fields (1e-6).
+#    FGMRES and the u-t-p preconditioner (pressure_block 'schur' and
+#    'eliminated') the same statuses and fields (1e-6).
 set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -110,8 +111,9 @@ fi
 # closed elements a compliance they do not have stalls there (up to 84 iterations
 # here against 50 at step 0, 335 on nine fractures); stick steps stay within 1.5x the
 # largest count of step 0 (the contact system at the initial pressure)
+# (the seed's second level, pressure_block = 'schur', which this case checks)
 deck onset_fgmres tests/decks/flow_onset.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-8#" \
-  -e "s#t_end = 58.0#t_end = 6.0#"
+  -e "s#t_end = 58.0#t_end = 6.0#" -e "s#^&fracture_flow#\&fracture_flow\n  pressure_block = 'schur'#"
 if run onset_fgmres 2; then
   counts=$(awk '/linear its/ {printf "%s ", $5} /^time step/ {printf "| "}' "$out/onset_fgmres.log")
   if awk -v c="$counts" 'BEGIN {n = split(c, f, " "); s = 0; m0 = 0; m = 0
@@ -137,15 +139,17 @@ if run states_mumps 2; then
   note=$(grep -E "^fault 'fault': stick/slip/open [0-9/]+ -> [0-9/]+ \(open starts\)" "$out/states_mumps.log" | head -1)
   [ -n "$note" ] && ok "the log tells when the fault starts to open: $note" || \
     ko "no log line for the fault's statuses changing to open"
-  for sp in boomeramg jacobi; do
-    deck "states_$sp" tests/decks/flow_states.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
-    printf "&fracture_flow\n  pressure_precon = '%s'\n/\n" "$sp" >> "$out/states_$sp.nml"
-    if run "states_$sp" 2; then
-      its=$(grep "linear its" "$out/states_$sp.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
-      check "FGMRES + u-t-p block preconditioner, S_p by $sp, vs MUMPS (1e-6; largest count $its)" $PY \
-        tests/verification/check_flow.py same "$out/states_mumps" "$out/states_$sp" 1e-6
-      [ "$sp" = boomeramg ] && check "convergence profiles of the linear systems of step 5 (seed's figure)" \
-        $PY postproc/plot_convergence.py --step 5 "$out" "states_$sp" "$out/states_step5.png"
+  for v in schur:boomeramg schur:jacobi eliminated:boomeramg; do
+    pb=${v%%:*}; sp=${v##*:}; name=states_${pb}_$sp
+    deck "$name" tests/decks/flow_states.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
+    printf "&fracture_flow\n  pressure_block = '%s', pressure_precon = '%s'\n/\n" "$pb" "$sp" >> "$out/$name.nml"
+    label="pressure_block '$pb'"; [ "$pb" = schur ] && label="$label, S_p by $sp"
+    if run "$name" 2; then
+      its=$(grep "linear its" "$out/$name.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
+      check "FGMRES + u-t-p block preconditioner, $label, vs MUMPS (1e-6; largest count $its)" $PY \
+        tests/verification/check_flow.py same "$out/states_mumps" "$out/$name" 1e-6
+      [ "$name" = states_schur_boomeramg ] && check "convergence profiles of the linear systems of step 5 (seed's figure)" \
+        $PY postproc/plot_convergence.py --step 5 "$out" "$name" "$out/states_step5.png"
     fi
   done
 fi
@@ -170,15 +174,25 @@ if run nine 2; then
   # converges (a failed one cuts the step, and the statuses would differ) and
   # the fields are MUMPS's (this case failed at its first slipping step
   # before the block framework kept the products through the middle block)
-  deck nine_fgmres tests/decks/flow_nine.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
-  if run nine_fgmres 2; then
-    st2=$(grep -E "^time step" "$out/nine_fgmres.log" | sed -E 's#.*stick/slip/open ([0-9/]+).*#\1#' | paste -sd' ')
-    its=$(grep "linear its" "$out/nine_fgmres.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
-    cuts=$(grep -c "the step is cut" "$out/nine_fgmres.log")
-    [ "$st2" = "$st" ] && [ "$cuts" -eq 0 ] && ok "nine fractures, FGMRES: MUMPS's statuses, no step cut (largest count $its)" || \
-      ko "nine fractures, FGMRES: statuses $st2 (MUMPS: $st), $cuts step cuts"
-    check "nine fractures, FGMRES vs MUMPS (1e-6)" $PY tests/verification/check_flow.py same "$out/nine" "$out/nine_fgmres" 1e-6
-  fi
+  # (both ways of treating the pressure; 'schur' with a restart length above
+  # its counts; 'eliminated' counts stay within 150 at this tolerance, 122 measured)
+  for pb in schur eliminated; do
+    name=nine_$pb
+    deck "$name" tests/decks/flow_nine.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10, restart = 300#" \
+      -e "s#initial_pressure = 4.0e6#initial_pressure = 4.0e6, pressure_block = '$pb'#"
+    if run "$name" 2; then
+      st2=$(grep -E "^time step" "$out/$name.log" | sed -E 's#.*stick/slip/open ([0-9/]+).*#\1#' | paste -sd' ')
+      its=$(grep "linear its" "$out/$name.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
+      cuts=$(grep -c "the step is cut" "$out/$name.log")
+      [ "$st2" = "$st" ] && [ "$cuts" -eq 0 ] && ok "nine fractures, FGMRES, pressure_block '$pb': MUMPS's statuses, no step cut (largest count $its)" || \
+        ko "nine fractures, FGMRES, pressure_block '$pb': statuses $st2 (MUMPS: $st), $cuts step cuts"
+      if [ "$pb" = eliminated ]; then
+        [ "$its" -le 150 ] && ok "nine fractures, pressure_block 'eliminated': largest count $its <= 150" || \
+          ko "nine fractures, pressure_block 'eliminated': largest count $its > 150"
+      fi
+      check "nine fractures, FGMRES, pressure_block '$pb', vs MUMPS (1e-6)" $PY tests/verification/check_flow.py same "$out/nine" "$out/$name" 1e-6
+    fi
+  done
 fi
 echo "suite fracture_flow: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
