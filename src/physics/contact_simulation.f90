@@ -413,10 +413,22 @@ contains
 
   !> The block vector (displacements and tractions) and the statuses; the
   !> rest follows from them.
+  !> The unknowns by field ('x_u', 'x_t', 'x_p'), not as the block vector:
+  !> the block order depends on the solver (MUMPS: u, t, p; the reordered
+  !> preconditioners t first; pressure_block = 'eliminated' t, p, u), and a
+  !> run may restart with another.
   subroutine save_state(self, st)
     class(contact_simulation_t), intent(inout) :: self
     type(state_record_t), intent(inout) :: st
-    call st%put('x', self%phys%x)
+    integer(ip) :: i0, i1
+    call self%phys%sys%block_range(self%phys%bu, i0, i1)
+    call st%put('x_u', self%phys%x(i0:i1))
+    call self%phys%sys%block_range(self%phys%bt, i0, i1)
+    call st%put('x_t', self%phys%x(i0:i1))
+    if (self%flow) then
+      call self%phys%sys%block_range(self%phys%bp, i0, i1)
+      call st%put('x_p', self%phys%x(i0:i1))
+    end if
     call st%put('status', self%phys%state)
   end subroutine save_state
 
@@ -424,7 +436,15 @@ contains
     class(contact_simulation_t), intent(inout) :: self
     type(state_record_t), intent(in) :: st
     type(error_status_t), intent(inout) :: status
-    call st%get('x', self%phys%x, status)
+    integer(ip) :: i0, i1
+    call self%phys%sys%block_range(self%phys%bu, i0, i1)
+    call st%get('x_u', self%phys%x(i0:i1), status)
+    call self%phys%sys%block_range(self%phys%bt, i0, i1)
+    call st%get('x_t', self%phys%x(i0:i1), status)
+    if (self%flow) then
+      call self%phys%sys%block_range(self%phys%bp, i0, i1)
+      call st%get('x_p', self%phys%x(i0:i1), status)
+    end if
     call st%get('status', self%phys%state, status)
     call self%phys%take_solution(self%mesh)
     self%fault_counts = counts_per_fault(self)
