@@ -398,5 +398,6 @@ contains
     call self%gup%free()
     self%ready = .false.
     self%variant = ''
+    self%p_eliminated = .false.
   end subroutine free
 end module contact_precon
