@@ -629,16 +629,16 @@ contains
   function counts_per_fault(self) result(c)
     type(contact_simulation_t), intent(in) :: self
     integer(gp), allocatable :: c(:,:)
+    integer(gp), allocatable :: flat(:)
     integer(ip) :: e
-    integer :: k
     allocate(c(3, size(self%mesh%fault_names)))
     c = 0
     do e = 1, self%mesh%iface_map%n_owned
       c(self%phys%state(e), self%mesh%iface_fault(e)) = c(self%phys%state(e), self%mesh%iface_fault(e)) + 1
     end do
-    do k = 1, size(c, 2)
-      call self%comm%sum_all(c(:, k))
-    end do
+    flat = reshape(c, [size(c)])                  ! one reduction for every fault
+    call self%comm%sum_all(flat)
+    c = reshape(flat, shape(c))
   end function counts_per_fault
 
   !> Largest tangential jump over the faults [m]. Collective.

@@ -98,8 +98,11 @@ def array(path):
     rows = [r for r in open(path).read().split("\n") if r.strip() and not r.startswith("%")]
     return np.array([float(r) for r in rows[1:]])
 head = open(base + "_fields.mtx").read().split("\n")
-assert head[2] == "% the block of every row of the exported matrix; blocks (1, 2, ...): t,u,p", head[2]
-f = array(base + "_fields.mtx").astype(int)
+prefix = "% the block of every row of the exported matrix; blocks (1, 2, ...): "
+assert head[2].startswith(prefix), head[2]
+names = head[2][len(prefix):].split(",")
+assert sorted(names) == ["p", "t", "u"], names     # t, p, u with the default pressure_block
+f = np.array([names[i - 1] for i in array(base + "_fields.mtx").astype(int)])
 dsc, b = array(base + "_scaling.mtx"), array(base + "_rhs.mtx")
 rows = open(base + "_K.mtx").read().split("\n")
 n, m, nnz = map(int, rows[2].split())
@@ -107,10 +110,10 @@ e = np.array([list(map(float, r.split())) for r in rows[3:] if r.strip()])
 assert n == m == len(f) == len(b) == len(dsc) and len(e) == nnz, (n, m, len(f), len(e), nnz)
 k = np.zeros((n, n)); k[e[:, 0].astype(int) - 1, e[:, 1].astype(int) - 1] = e[:, 2]
 u_, t_, p_ = (int(x) for x in re.search(r"unknowns: u (\d+), t (\d+), p (\d+)", log).groups())
-assert [np.sum(f == 2), np.sum(f == 1), np.sum(f == 3)] == [u_, t_, p_], (np.bincount(f), u_, t_, p_)
+assert [np.sum(f == "u"), np.sum(f == "t"), np.sum(f == "p")] == [u_, t_, p_], (names, u_, t_, p_)
 assert np.all(dsc > 0) and np.all(np.isfinite(b)) and np.linalg.norm(b) > 0
 a = k / np.outer(dsc, dsc)                       # undo the scaling: A = D^-1 (D A D) D^-1
-it, iu, ip = (np.where(f == j)[0] for j in (1, 2, 3))
+it, iu, ip = (np.where(f == j)[0] for j in ("t", "u", "p"))
 q1 = a[np.ix_(iu, ip)]
 c1n = a[np.ix_(iu, it[0::3])]                    # the normal traction's columns, element by element
 res = np.abs(q1 + c1n).max() / np.abs(q1).max()
@@ -118,7 +121,7 @@ assert res < 1e-12, res
 app = np.diag(a[np.ix_(ip, ip)])
 assert np.all(app > 0), app.min()
 x = np.linalg.solve(k, b)
-print(f"{n} rows (t {t_}, u {u_}, p {p_}), max |A_up + A_ut P| / max |A_up| = {res:.1e}, "
+print(f"{n} rows (blocks {','.join(names)}: t {t_}, u {u_}, p {p_}), max |A_up + A_ut P| / max |A_up| = {res:.1e}, "
       f"solvable (|D A D y - D b| = {np.linalg.norm(k @ x - b) / np.linalg.norm(b):.1e})")
 PY
 ); then ok "export_step: $r"; else ko "export_step: $r"; fi
