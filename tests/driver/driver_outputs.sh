@@ -125,6 +125,18 @@ print(f"{n} rows (blocks {','.join(names)}: t {t_}, u {u_}, p {p_}), max |A_up +
       f"solvable (|D A D y - D b| = {np.linalg.norm(k @ x - b) / np.linalg.norm(b):.1e})")
 PY
 ); then ok "export_step: $r"; else ko "export_step: $r"; fi
+# 2c. export_step naming a step the run does not make: a warning at the end,
+# no files, exit 0
+sed -e "s#dir = '$out/export', prefix = 'cube', fields = .false., export_matrix = .true.#dir = '$out/export_none', prefix = 'cube', fields = .false.#" \
+  "$out/export.nml" > "$out/export_none.nml"
+printf "&solver\n  export_step = 7\n/\n" >> "$out/export_none.nml"
+if timeout 120 mpirun --oversubscribe -np 2 bin/geoblock "$out/export_none.nml" > "$out/export_none.stdout" 2>&1 < /dev/null \
+   && grep -q "warning: &solver export_step = 7, export_newton = 1: the run made no such linear system; nothing was exported" \
+        "$out/export_none.stdout" && ! ls "$out/export_none"/*.mtx > /dev/null 2>&1; then
+  ok "export_step beyond the run: a warning names it, nothing written, exit 0"
+else
+  ko "export_step beyond the run: no warning, files written or a failure, see $out/export_none.stdout"
+fi
 # 3. a fluid source in a sealed rigid box (biot, explicit step times): p = M rate t
 if timeout 120 mpirun --oversubscribe -np 2 bin/geoblock tests/decks/source_test.nml > "$out/source.stdout" 2>&1 < /dev/null; then
   ok "source deck runs"
