@@ -33,8 +33,8 @@ module newton_loop
     type(linear_system_t) :: sys
     type(residual_history_t) :: history
     logical :: reference_done = .false.          !< the elastic reference solve was made
-    character(len=path_len) :: export_base = ''  !< export the next system to <base>_K.mtx, _rhs.mtx ('' none)
-    character(len=path_len) :: out_base = ''     !< <out>/<prefix>: &solver export_step's files
+    character(len=path_len) :: out_base = ''     !< <out>/<prefix>: the stem of the exported systems' files
+    logical :: export_first = .false.            !< export the next system to <out_base>_K.mtx, _rhs.mtx
     logical :: step_exported = .false.           !< &solver export_step's system was written
   contains
     procedure :: init
@@ -47,14 +47,15 @@ module newton_loop
 contains
 
   !> The linear solver of sim's &solver; the residual history file at
-  !> history_path; export_base: export the first system there ('' none);
-  !> out_base: <out>/<prefix>, the stem of &solver export_step's files;
+  !> history_path; out_base: <out>/<prefix>, the stem of the exported
+  !> systems' files; export_first: export the first system (as assembled);
   !> keep_through: a restarted run keeps the history rows up to that step.
-  subroutine init(self, comm, sim, history_path, export_base, out_base, status, keep_through)
+  subroutine init(self, comm, sim, history_path, out_base, export_first, status, keep_through)
     class(newton_loop_t), intent(inout) :: self
     type(parallel_comm_t), intent(in) :: comm
     class(simulation_t), intent(in) :: sim
-    character(len=*), intent(in) :: history_path, export_base, out_base
+    character(len=*), intent(in) :: history_path, out_base
+    logical, intent(in) :: export_first
     type(error_status_t), intent(inout) :: status
     integer, intent(in), optional :: keep_through
     associate (s => sim%solver)
@@ -62,8 +63,8 @@ contains
       self%ls%direct%on_host = s%mumps_layout == 'host'
     end associate
     call self%history%open(comm, history_path, keep_through)
-    self%export_base = export_base
     self%out_base = out_base
+    self%export_first = export_first
   end subroutine init
 
   !> Iterate step `step` (sub-step from sim's accepted state to time t,
@@ -132,12 +133,12 @@ contains
       why = status%msg
       return
     end if
-    if (len_trim(self%export_base) > 0) then
-      call export_system(sim%comm, self%sys, trim(self%export_base), status)
-      if (status%ok()) call log%info('matrix and right-hand side written to '//trim(self%export_base)//'_K.mtx and '// &
-                                     trim(self%export_base)//'_rhs.mtx')
+    if (self%export_first) then
+      call export_system(sim%comm, self%sys, trim(self%out_base), status)
+      if (status%ok()) call log%info('matrix and right-hand side written to '//trim(self%out_base)//'_K.mtx and '// &
+                                     trim(self%out_base)//'_rhs.mtx')
       if (.not. status%ok()) call log%fatal(sim%comm, status%msg)
-      self%export_base = ''
+      self%export_first = .false.
     end if
     if (step == sim%solver%export_step .and. it == sim%solver%export_newton .and. .not. self%step_exported) then
       base = trim(self%out_base)//'_step'//itoa(step)//'_newton'//itoa(it)

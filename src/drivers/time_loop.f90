@@ -156,14 +156,14 @@ contains
     call sim%probe_names(avail)
     if (len_trim(run%restart) > 0) then
       ! the matrix export belongs to the first step of the whole run
-      call rs%newton%init(comm, sim, trim(base)//'_residuals.csv', '', trim(base), status, keep_through=rs%first - 1)
+      call rs%newton%init(comm, sim, trim(base)//'_residuals.csv', trim(base), .false., status, &
+                          keep_through=rs%first - 1)
       if (status%ok()) call rs%probes%init(d, pcfg, mesh, avail, sim%name(), trim(base)//'_probes.csv', &
                                            sim%transient, status, keep_through=rs%first - 1)
     else
       call rs%probes%init(d, pcfg, mesh, avail, sim%name(), trim(base)//'_probes.csv', sim%transient, status)
       if (.not. status%ok()) call log%fatal(comm, status%msg)
-      call rs%newton%init(comm, sim, trim(base)//'_residuals.csv', trim(merge(base, repeat(' ', path_len), &
-                          run%export_matrix)), trim(base), status)
+      call rs%newton%init(comm, sim, trim(base)//'_residuals.csv', trim(base), run%export_matrix, status)
     end if
     if (.not. status%ok()) call log%fatal(comm, status%msg)
   end subroutine prepare

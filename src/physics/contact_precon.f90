@@ -98,7 +98,7 @@ contains
   !> Set up (first call) or refresh (later calls: the Schur part) for the
   !> current Jacobian of phys. amg: elasticity settings (for K and S*).
   !> Collective.
-  subroutine setup(self, phys, mesh, ccfg, amg, status, pressure_precon, pressure_block)
+  subroutine setup(self, phys, mesh, ccfg, amg, status, pressure_precon)
     class(contact_precon_t), intent(inout), target :: self
     type(contact_t), intent(inout), target :: phys
     type(dist_mesh_t), intent(in) :: mesh
@@ -106,7 +106,6 @@ contains
     type(amg_params_t), intent(in) :: amg
     type(error_status_t), intent(inout) :: status
     character(len=*), intent(in), optional :: pressure_precon   !< flow: 'boomeramg' or 'jacobi' for S_p
-    character(len=*), intent(in), optional :: pressure_block    !< flow: 'schur' (default) or 'eliminated'
     class(precon_t), allocatable :: p
     type(precon_params_t) :: params
     real(rp) :: t0
@@ -129,11 +128,10 @@ contains
         call self%bp%set_implicit(phys%bu, phys%bt, phys%bt)
         if (phys%flow) then
           call from_csr(phys%sys%a(phys%bu, phys%bp), self%gup)
-          self%p_eliminated = .false.
-          if (present(pressure_block)) self%p_eliminated = pressure_block == 'eliminated'
+          ! the physics' block order says which: t, p, u for pressure_block =
+          ! 'eliminated', t, u, p for 'schur'
+          self%p_eliminated = phys%bp < phys%bu
           if (self%p_eliminated) then
-            if (.not. (phys%bt < phys%bp .and. phys%bp < phys%bu)) &
-              error stop 'contact_precon: the eliminated pressure needs the blocks t, p, u'
             call self%bp%set_implicit(phys%bp, phys%bu, phys%bp)
             call self%bp%set_implicit(phys%bu, phys%bp, phys%bp)
           else

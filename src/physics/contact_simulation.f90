@@ -261,8 +261,7 @@ contains
       return
     end if
     t0 = wall_time()
-    call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon, &
-                        self%fcfg%pressure_block)
+    call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon)
     call agree(self%comm, status)
     if (.not. status%ok()) then
       status%msg = 'preconditioner set-up: '//trim(status%msg)

@@ -121,8 +121,8 @@ contains
     if (status%ok()) call build_mesh(comm, mcfg, log, mesh, status, sim%faults)
     if (status%ok()) call sim%setup(mesh, log, status)
     call agree(comm, status)
-    if (status%ok()) call newton%init(comm, sim, 'build/test-out/simulation_residuals.csv', '', &
-                                          'build/test-out/simulation', status)
+    if (status%ok()) call newton%init(comm, sim, 'build/test-out/simulation_residuals.csv', &
+                                          'build/test-out/simulation', .false., status)
     if (status%ok()) call schedule%init(run, sim%transient)
     ok = status%ok()
     if (.not. ok .and. comm%is_root()) print '(a)', '  '//trim(status%msg)
