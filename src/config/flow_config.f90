@@ -24,9 +24,21 @@
 !>                      'boomeramg' or 'jacobi'                  ['boomeramg']
 !>
 !> &well (any number; at least one or a fracture gets no fluid): a source of
-!> fluid into the fracture element whose centre is nearest to point.
+!> fluid, either at a point (into the fracture element whose centre is
+!> nearest to it) or along a segment that crosses one or more fractures, its
+!> rate split among them by their pressures (fracture_wells):
 !>   name               name of the well (CSV column)                  [required]
-!>   point(3)           where the well meets the fracture [m]          [required]
+!>   point(3)           where the well meets the fracture [m]
+!>   segment(6)         start and end [m] of a straight well: it feeds the
+!>                      element of every fault it crosses (one per fault),
+!>                      all at one bottom-hole pressure p_w, the connection
+!>                      rates J_i (p_w - p_i) summing to the well's rate
+!>                                       [one of point and segment is required]
+!>   radius             segment wells: well radius r_w [m], > 0, below
+!>                      Peaceman's equivalent radius of the elements    [0.1]
+!>   index              segment wells: connection index J [m^3/(Pa s)], > 0,
+!>                      the same for every connection
+!>                                  [Peaceman's, from the aperture: fracture_wells]
 !>   rate               injection rate [m^3/s] (negative: production); with
 !>                      history, the rate is rate times the history's factor
 !>                      at the time                                    [required]
@@ -70,6 +82,10 @@ module flow_config
   type :: well_config_t
     character(len=name_len) :: name = ''
     real(rp) :: point(3) = 0.0_rp                  !< [m]
+    logical :: along = .false.                     !< a segment well (segment set, point not)
+    real(rp) :: segment(6) = 0.0_rp                !< start, end [m]
+    real(rp) :: radius = 0.1_rp                    !< [m]
+    real(rp) :: index = 0.0_rp                     !< [m^3/(Pa s)]; 0: Peaceman's
     real(rp) :: rate = 0.0_rp                      !< [m^3/s]
     character(len=path_len) :: history = ''
     real(rp), allocatable :: hist_t(:), hist_f(:)
@@ -221,15 +237,16 @@ contains
     type(well_config_t), allocatable, intent(out) :: wells(:)
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: name
-    real(rp) :: point(3), rate
+    real(rp) :: point(3), segment(6), radius, index, rate
     character(len=path_len) :: history
     integer :: k, j, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    namelist /well/ name, point, rate, history
+    namelist /well/ name, point, segment, radius, index, rate, history
     allocate(wells(d%count('well')))
     do k = 1, size(wells)
-      name = ''; point = unset_real; rate = unset_real; history = ''
+      name = ''; point = unset_real; segment = unset_real; radius = unset_real; index = unset_real
+      rate = unset_real; history = ''
       call d%block('well', k, b)
       read(b, nml=well, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -241,11 +258,38 @@ contains
         if (wells(j)%name == name) call d%fail(status, 'well', k, 'name', "'"//trim(name)// &
           "' is already the name of another &well (well names must be distinct)")
       end do
-      if (any(point == unset_real)) call d%fail(status, 'well', k, 'point', 'required: three coordinates [m]')
+      if (all(point == unset_real) .and. all(segment == unset_real)) then
+        call d%fail(status, 'well', k, 'point', 'required (three coordinates [m]), or segment (start and end)')
+      else if (any(point /= unset_real) .and. any(segment /= unset_real)) then
+        call d%fail(status, 'well', k, 'segment', 'a well is at a point or along a segment, not both')
+      else if (any(point /= unset_real) .and. any(point == unset_real)) then
+        call d%fail(status, 'well', k, 'point', 'needs three coordinates [m]')
+      else if (any(segment /= unset_real) .and. any(segment == unset_real)) then
+        call d%fail(status, 'well', k, 'segment', 'needs six coordinates [m]: start x, y, z, end x, y, z')
+      else if (any(segment /= unset_real)) then
+        if (all(segment(1:3) == segment(4:6))) call d%fail(status, 'well', k, 'segment', &
+          'its start and end are the same point')
+      end if
+      if (all(segment == unset_real)) then
+        if (radius /= unset_real) call d%fail(status, 'well', k, 'radius', 'only for a well along a segment')
+        if (index /= unset_real) call d%fail(status, 'well', k, 'index', 'only for a well along a segment')
+      end if
+      if (radius /= unset_real .and. .not. radius > 0.0_rp) call d%fail(status, 'well', k, 'radius', &
+        'must be > 0 [m], got '//rtoa(radius))
+      if (index /= unset_real .and. .not. index > 0.0_rp) call d%fail(status, 'well', k, 'index', &
+        'must be > 0 [m^3/(Pa s)], got '//rtoa(index))
       if (rate == unset_real) call d%fail(status, 'well', k, 'rate', 'required [m^3/s]')
       if (.not. status%ok()) return
       wells(k)%name = name
-      wells(k)%point = point
+      wells(k)%along = any(segment /= unset_real)
+      if (wells(k)%along) then
+        wells(k)%segment = segment
+        wells(k)%point = segment(1:3)
+        if (radius /= unset_real) wells(k)%radius = radius
+        if (index /= unset_real) wells(k)%index = index
+      else
+        wells(k)%point = point
+      end if
       wells(k)%rate = rate
       call d%input_path('well', k, 'history', history, wells(k)%history, status)
     end do
@@ -282,9 +326,21 @@ contains
     type(param_group_t), intent(out) :: g
     call g%init('well')
     call g%add('name', self%name, '-', 'name of the well')
-    call g%add('point(1)', self%point(1), 'm', 'where the well meets the fracture, x')
-    call g%add('point(2)', self%point(2), 'm', 'where the well meets the fracture, y')
-    call g%add('point(3)', self%point(3), 'm', 'where the well meets the fracture, z')
+    if (self%along) then
+      call g%add_unset('point', '(none: along segment)', 'm', 'where the well meets the fracture')
+      call g%add('segment', self%segment, 'm', 'start x, y, z and end x, y, z of the well')
+      call g%add('radius', self%radius, 'm', 'well radius')
+      if (self%index > 0.0_rp) then
+        call g%add('index', self%index, 'm3/(Pa s)', 'connection index J of every fracture it crosses')
+      else
+        call g%add_unset('index', "(Peaceman's, from the aperture)", 'm3/(Pa s)', 'connection index J')
+      end if
+    else
+      call g%add('point(1)', self%point(1), 'm', 'where the well meets the fracture, x')
+      call g%add('point(2)', self%point(2), 'm', 'where the well meets the fracture, y')
+      call g%add('point(3)', self%point(3), 'm', 'where the well meets the fracture, z')
+      call g%add_unset('segment', '(none: at point)', 'm', 'start and end of a well crossing fractures')
+    end if
     call g%add('rate', self%rate, 'm3/s', 'injection rate (times the history factor)')
     call g%add('history', self%history, '-', "file of 'time factor' rows scaling the rate ('': none)")
   end subroutine describe_well

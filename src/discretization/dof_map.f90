@@ -24,20 +24,30 @@ module dof_map
 
 contains
 
-  !> ncomp dofs on each entity of emap. Collective.
-  subroutine init(self, name, emap, ncomp)
+  !> ncomp dofs on each entity of emap; extra: global ids of further
+  !> entities owned elsewhere whose dofs this rank needs as ghosts (after
+  !> emap's, in that order). Collective.
+  subroutine init(self, name, emap, ncomp, extra)
     class(dof_map_t), intent(inout) :: self
     character(len=*), intent(in) :: name
     type(index_map_t), intent(in) :: emap
     integer(ip), intent(in) :: ncomp
-    integer(gp), allocatable :: ghosts(:)
+    integer(gp), intent(in), optional :: extra(:)
+    integer(gp), allocatable :: ghosts(:), ents(:)
     integer(ip) :: i, c
     self%name = name
     self%ncomp = ncomp
-    allocate(ghosts(ncomp * emap%n_ghost))
-    do i = 1, emap%n_ghost
+    if (present(extra)) then
+      allocate(ents(emap%n_ghost + size(extra)))
+      ents(emap%n_ghost+1:) = extra
+    else
+      allocate(ents(emap%n_ghost))
+    end if
+    ents(1:emap%n_ghost) = emap%ghost_gid(1:emap%n_ghost)
+    allocate(ghosts(ncomp * size(ents)))
+    do i = 1, size(ents, kind=ip)
       do c = 1, ncomp
-        ghosts(ncomp*(i-1)+c) = ncomp * (emap%ghost_gid(i) - 1) + c
+        ghosts(ncomp*(i-1)+c) = ncomp * (ents(i) - 1) + c
       end do
     end do
     call self%map%init(emap%comm, ncomp * emap%n_owned, ghosts)

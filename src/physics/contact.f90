@@ -60,6 +60,7 @@ module contact
   use fault_edges, only: fault_edges_t
   use fracture_flow, only: fracture_flow_t
   use flow_config, only: flow_config_t, well_config_t, pressure_bc_t
+  use fracture_wells, only: well_links_t
   implicit none
   private
 
@@ -101,10 +102,9 @@ module contact
     integer :: bp = 3                              !< block index of p
     type(dof_map_t) :: pd                          !< 1 pressure per interface element
     type(fracture_flow_t) :: ff                    !< cubic-law transmissibilities
-    real(rp), allocatable :: p(:), p_step(:)       !< (n) fluid pressure now and at the step's start [Pa]
+    real(rp), allocatable :: p(:), p_step(:)       !< (pressure map's local) fluid pressure now and at the step's start [Pa]
     real(rp), allocatable :: gn_step(:)            !< (n) normal jump at the step's start [m]
-    real(rp), allocatable :: q_src(:)              !< (n) injected rate of the step [m^3/s]
-    integer(ip), allocatable :: well_elem(:)       !< (wells) local owned element of each well, 0 elsewhere
+    type(well_links_t) :: wl                       !< the wells' connections and rates
     integer, allocatable :: pfix(:)                !< (n) the &fracture_pressure of an element, 0: none
     real(rp), allocatable :: p_fixed(:)            !< (n) its prescribed pressure in the step [Pa]
     real(rp) :: dt = 1.0_rp                        !< time step [s]
@@ -176,7 +176,14 @@ contains
     call edge_blocks(self, mesh)
 
     self%flow = present(fcfg)
-    if (self%flow) call self%pd%init('pressure', mesh%iface_map, 1_ip)
+    if (self%flow) then
+      ! a well's connections couple their elements: the pressure map has the
+      ! others as ghosts on a rank that owns one
+      call self%wl%locate(mesh, wells, status)
+      if (.not. status%ok()) return
+      call self%pd%init('pressure', mesh%iface_map, 1_ip, self%wl%extra_ghosts(mesh))
+      call self%wl%set_local(self%pd%map)
+    end if
     block
       integer(ip) :: no(merge(3, 2, self%flow))
       no(self%bu) = self%mech%u%n_owned()
@@ -366,7 +373,7 @@ contains
       end do
       call element_pattern(mesh%iface_map%n_owned, self_conn, connp, 1_ip, 3_ip, row_ptr, col)
       call self%sys%set_pattern(bp, bu, pmap, umap, row_ptr, col)
-      call self%ff%pattern(mesh, self%edges, row_ptr, col)
+      call self%ff%pattern(mesh, self%edges, row_ptr, col, self%wl%pairs())
       call self%sys%set_pattern(bp, bp, pmap, pmap, row_ptr, col)
     end associate
     associate (q1 => self%sys%a(self%bu, self%bp))
@@ -382,12 +389,10 @@ contains
     end associate
     call self%ff%init(mesh, self%edges, fcfg%viscosity, fcfg%residual_aperture)
     self%cf = fcfg%compressibility
-    allocate(self%p(n), self%p_step(n), self%gn_step(n), self%q_src(n))
+    allocate(self%p(self%pd%n_local()), self%p_step(self%pd%n_local()), self%gn_step(n))
     self%p = fcfg%initial_pressure
     self%p_step = self%p
     self%gn_step = 0.0_rp
-    self%q_src = 0.0_rp
-    call locate_wells(self, mesh, wells)
     ! prescribed pressures: the last &fracture_pressure whose box holds the centre wins
     allocate(self%pfix(n), self%p_fixed(n))
     self%pfix = 0
@@ -405,40 +410,6 @@ contains
     end block
   end subroutine flow_init
 
-  !> Each well's element: the owned element whose centre is nearest to the
-  !> well's point over all ranks (ties: the lowest original element id).
-  !> Collective.
-  subroutine locate_wells(self, mesh, wells)
-    type(contact_t), intent(inout) :: self
-    type(dist_mesh_t), intent(in) :: mesh
-    type(well_config_t), intent(in) :: wells(:)
-    type(parallel_comm_t) :: comm
-    real(rp) :: best, d2, gbest, c(3)
-    integer(gp) :: bid, gid
-    integer(ip) :: e, chosen
-    integer :: k
-    comm = mesh%comm
-    allocate(self%well_elem(size(wells)))
-    self%well_elem = 0
-    do k = 1, size(wells)
-      best = huge(1.0_rp)
-      bid = huge(1_gp)
-      chosen = 0
-      do e = 1, mesh%iface_map%n_owned
-        c = sum(mesh%coords(:, mesh%iface_nodes(:, 1, e)), dim=2) / 4.0_rp
-        d2 = sum((c - wells(k)%point)**2)
-        if (d2 < best .or. (d2 == best .and. mesh%iface_orig(e) < bid)) then
-          best = d2
-          bid = mesh%iface_orig(e)
-          chosen = e
-        end if
-      end do
-      gbest = -comm%max(-best)
-      gid = -comm%max(-merge(bid, huge(1_gp), best == gbest))
-      if (chosen > 0 .and. best == gbest .and. bid == gid) self%well_elem(k) = chosen
-    end do
-  end subroutine locate_wells
-
   !> Start a time step of the fluid: the step's pressure and normal jumps,
   !> dt [s] and the wells' rates at the step's end time t (implicit Euler).
   subroutine begin_flow_step(self, wells, pbcs, t, dt)
@@ -446,19 +417,15 @@ contains
     type(well_config_t), intent(in) :: wells(:)
     type(pressure_bc_t), intent(in) :: pbcs(:)
     real(rp), intent(in) :: t, dt
-    integer :: k
     integer(ip) :: e
     self%dt = dt
     self%p_step = self%p
     self%gn_step = self%jump(1, :)
-    self%q_src = 0.0_rp
     do e = 1, size(self%pfix, kind=ip)
       if (self%pfix(e) > 0) self%p_fixed(e) = pbcs(self%pfix(e))%value_at(t)
     end do
-    if (dt == 0.0_rp) return                       ! the equilibrium step 0: nothing flows
-    do k = 1, size(wells)
-      if (self%well_elem(k) > 0) self%q_src(self%well_elem(k)) = self%q_src(self%well_elem(k)) + wells(k)%rate_at(t)
-    end do
+    ! the equilibrium step 0 (dt = 0): nothing flows
+    call self%wl%begin_step(wells, self%ff%aperture, self%ff%mu, t, dt)
   end subroutine begin_flow_step
 
   !> The mass rows of the fluid and their residual, per owned element e, in
@@ -496,8 +463,7 @@ contains
         end if
         call free_jump_operator(e, be, dofs)
         stor = self%area(e) * self%ff%aperture(e) * self%cf
-        r = self%area(e) * (self%jump(1, e) - self%gn_step(e)) + stor * (self%p(e) - self%p_step(e)) &
-            - dt * self%q_src(e)
+        r = self%area(e) * (self%jump(1, e) - self%gn_step(e)) + stor * (self%p(e) - self%p_step(e))
         call jpu%add_block([e], dofs, be(1:1, :) * (1.0_rp + self%cf * (self%p(e) - self%p_step(e)) &
                                                     * self%ff%da_dg(e)))
         call jpp%add_value(e, e, stor)
@@ -525,6 +491,8 @@ contains
         end do
         self%rhs(p0 + e - 1) = -r
       end do
+      ! the wells' rates (-dt q in r)
+      call self%wl%add_mass_terms(self%p, dt, dt > 0.0_rp .and. self%pfix == 0, jpp, self%rhs(p0:p1))
       call jpu%finalize_assembly()
       call jpp%finalize_assembly()
     end associate
@@ -806,10 +774,9 @@ contains
     end do
     if (self%flow) then
       call self%sys%block_range(self%bp, t0, t1)
-      tl = 0.0_rp
-      tl(1:t1-t0+1) = self%x(t0:t1)
-      call self%pd%map%import(tl(1:mesh%n_ifaces))
-      self%p = tl(1:mesh%n_ifaces)
+      self%p = 0.0_rp
+      self%p(1:t1-t0+1) = self%x(t0:t1)
+      call self%pd%map%import(self%p)
       ! a closed (stick or slip) element conducts with a0 alone: its normal
       ! jump is the stabilization's allowance, not an opening
       call self%ff%set_apertures(self%edges, merge(self%jump(1, :), 0.0_rp, self%state == state_open))
@@ -994,8 +961,8 @@ contains
     if (allocated(self%eb)) deallocate(self%eb)
     call self%pd%free()
     call self%ff%free()
-    if (allocated(self%p)) deallocate(self%p, self%p_step, self%gn_step, self%q_src)
-    if (allocated(self%well_elem)) deallocate(self%well_elem)
+    if (allocated(self%p)) deallocate(self%p, self%p_step, self%gn_step)
+    call self%wl%free()
     if (allocated(self%pfix)) deallocate(self%pfix, self%p_fixed)
     self%flow = .false.
     if (allocated(self%faults)) deallocate(self%faults)

@@ -190,6 +190,7 @@ contains
       itoa(int(self%phys%t%map%n_global))//trim(merge(', p '//itoa(int(mesh%iface_map%n_global)), repeat(' ', 24), &
       self%phys%flow))//' ('//itoa(int(mesh%iface_map%n_global))//' interface elements, '// &
       itoa(int(self%comm%sum(self%phys%edges%n)))//' stabilization edge entries)')
+    if (self%flow) call log_wells(self, log)
     if (self%solver%method == 'mumps') then
       call log%info('linear solver: MUMPS (direct) at every Newton iteration')
     else
@@ -513,30 +514,65 @@ contains
     if (self%flow) call sample_wells(self, pf)
   end subroutine sample
 
-  !> Per well, the step's rate and the pressure of its element (the
-  !> bottom-hole pressure), and per fault the largest pressure and the fluid
-  !> volume it holds (sum of A g_N over its open elements). Collective.
+  !> One line per well: where it meets the fractures (the element centre of
+  !> each connection, and for a segment well Peaceman's equivalent radius).
+  subroutine log_wells(self, log)
+    type(contact_simulation_t), intent(in) :: self
+    type(logger_t), intent(inout) :: log
+    character(len=:), allocatable :: line
+    integer :: k, c
+    associate (wl => self%phys%wl)
+      do k = 1, size(self%wells)
+        line = "well '"//trim(self%wells(k)%name)//"': "
+        if (wl%along(k)) line = line//'along its segment, the rate split by pressure among '// &
+                                itoa(wl%n_conn(k))//' fault(s):'
+        do c = wl%first(k), wl%first(k + 1) - 1
+          line = line//" '"//trim(self%mesh%fault_names(wl%fault(c)))//"' element at ("// &
+                 rtoa(wl%centre(1, c))//', '//rtoa(wl%centre(2, c))//', '//rtoa(wl%centre(3, c))//')'
+          if (wl%along(k)) line = line//' r_e '//rtoa(wl%r_e(c))//' m'
+          if (c < wl%first(k + 1) - 1) line = line//';'
+        end do
+        call log%info(line)
+      end do
+    end associate
+  end subroutine log_wells
+
+  !> Per well, the step's rate and its bottom-hole pressure (of its element
+  !> for a well at a point, of the wellbore for one along a segment), per
+  !> connection of a segment well its rate and its element's pressure, and
+  !> per fault the largest pressure and the fluid volume it holds (sum of
+  !> A g_N over its open elements). Collective.
   subroutine sample_wells(self, pf)
     type(contact_simulation_t), intent(inout) :: self
     type(probe_fields_t), intent(inout) :: pf
     character(len=scalar_name_len), allocatable :: names(:)
-    real(rp), allocatable :: values(:), pmax(:), vol(:)
-    integer :: k, nw, nf, f
+    real(rp), allocatable :: values(:), pmax(:), vol(:), pw(:), qc(:), pc(:)
+    integer :: k, nf, f, c
     integer(ip) :: e
-    nw = size(self%wells)
-    nf = size(self%mesh%fault_names)
-    allocate(names(2 * nw + 2 * nf), values(2 * nw + 2 * nf), pmax(nf), vol(nf))
-    do k = 1, nw
-      names(2*k - 1) = trim(self%wells(k)%name)//':rate [m3/s]'
-      names(2*k) = trim(self%wells(k)%name)//':pressure [Pa]'
-      values(2*k - 1) = 0.0_rp
-      values(2*k) = 0.0_rp
-      e = self%phys%well_elem(k)
-      if (e > 0) then
-        values(2*k - 1) = self%phys%q_src(e)
-        values(2*k) = self%phys%p(e)
-      end if
-    end do
+    associate (wl => self%phys%wl)
+      nf = size(self%mesh%fault_names)
+      allocate(pw(size(self%wells)), qc(size(wl%gid)), pc(size(wl%gid)))
+      pw = wl%bottom_hole(self%phys%p)
+      qc = wl%rates(self%phys%p)
+      pc = 0.0_rp
+      where (wl%mine) pc = self%phys%p(max(wl%elem, 1))
+      call self%comm%sum_all(qc)
+      call self%comm%sum_all(pc)
+      allocate(names(0), values(0))
+      do k = 1, size(self%wells)
+        names = [character(len=scalar_name_len) :: names, trim(self%wells(k)%name)//':rate [m3/s]', &
+                 trim(self%wells(k)%name)//':pressure [Pa]']
+        values = [values, wl%q(k), pw(k)]
+        if (.not. wl%along(k)) cycle
+        do c = wl%first(k), wl%first(k + 1) - 1
+          associate (tag => trim(self%wells(k)%name)//'@'//trim(self%mesh%fault_names(wl%fault(c))))
+            names = [character(len=scalar_name_len) :: names, tag//':rate [m3/s]', tag//':pressure [Pa]']
+          end associate
+          values = [values, qc(c), pc(c)]
+        end do
+      end do
+    end associate
+    allocate(pmax(nf), vol(nf))
     pmax = -huge(1.0_rp)
     vol = 0.0_rp
     do e = 1, self%mesh%iface_map%n_owned
@@ -544,13 +580,11 @@ contains
       pmax(f) = max(pmax(f), self%phys%p(e))
       vol(f) = vol(f) + self%phys%area(e) * max(self%phys%jump(1, e), 0.0_rp)
     end do
-    call self%comm%sum_all(values)
     call self%comm%sum_all(vol)
     do f = 1, nf
-      names(2*nw + 2*f - 1) = trim(self%mesh%fault_names(f))//':max_pressure [Pa]'
-      names(2*nw + 2*f) = trim(self%mesh%fault_names(f))//':fluid_volume [m3]'
-      values(2*nw + 2*f - 1) = self%comm%max(pmax(f))
-      values(2*nw + 2*f) = vol(f)
+      names = [character(len=scalar_name_len) :: names, trim(self%mesh%fault_names(f))//':max_pressure [Pa]', &
+               trim(self%mesh%fault_names(f))//':fluid_volume [m3]']
+      values = [values, self%comm%max(pmax(f)), vol(f)]
     end do
     pf%names = [pf%names, names]
     pf%values = [pf%values, values]

@@ -104,17 +104,19 @@ contains
 
   !> CSR pattern of T on the owned elements (each element and its edge
   !> neighbours), local column ids.
-  subroutine pattern(self, mesh, edges, row_ptr, col)
+  subroutine pattern(self, mesh, edges, row_ptr, col, extra)
     class(fracture_flow_t), intent(in) :: self
     type(dist_mesh_t), intent(in) :: mesh
     type(fault_edges_t), intent(in) :: edges
     integer(ip), allocatable, intent(out) :: row_ptr(:), col(:)
+    integer(ip), intent(in), optional :: extra(:,:)   !< (2, n) further pairs of coupled local ids
     integer(ip), allocatable :: pairs(:,:)
     integer(ip) :: e, n
     n = mesh%n_ifaces
     allocate(pairs(2, n + edges%n))
     pairs(:, 1:n) = spread([(e, e = 1, n)], 1, 2)
     pairs(:, n+1:) = edges%pair
+    if (present(extra)) pairs = reshape([pairs, extra], [2, size(pairs, 2) + size(extra, 2)])
     call element_pattern(mesh%iface_map%n_owned, pairs, pairs, 1_ip, 1_ip, row_ptr, col)
   end subroutine pattern
 

@@ -22,6 +22,16 @@
                                       first slipping one) against sigma_n - tau / tan(phi)
                                       for the homogeneous stress of the deck's tractions; the
                                       fault 'far' keeps its initial pressure (to 1e-10), no slip, no fluid (1e-15 m3)
+    check_flow.py split RUN W H NL NR TOL  one well along a segment crossing fractures whose
+                                      end elements are held (&fracture_pressure) and that are
+                                      1-D chains of elements h apart and w wide, the well NL
+                                      edges from one end and NR from the other: at the last
+                                      step each connection's rate against
+                                      (p_w - p_end) / (1/J + 1/G), G = a0^3 w / (12 mu h) (1/NL + 1/NR),
+                                      J the deck's index or Peaceman's
+                                      2 pi a0^3 / (12 mu ln(0.14 sqrt(h^2 + w^2) / r_w)),
+                                      p_w from sum q = Q; the rates sum to Q (1e-12) and each is
+                                      J (p_w - p_c) with the CSV's pressures (1e-10)
 RUN is the output directory plus prefix. Prints one line; exit 1 on a failure.
 """
 import os
@@ -198,6 +208,40 @@ def onset(path, tol):
     return lo < exact <= hi and err <= tol and far_p <= 1e-10 * exact and far_v <= 1e-15 and far_s == 0.0
 
 
+def split(path, w, h, nl, nr, tol):
+    import csv
+    run = load(path)
+    par = run.parameters()
+    ff = par["fracture_flow"][0]
+    a0, mu = float(ff["residual_aperture"]), float(ff["viscosity"])
+    well = par["well"][0]
+    name, q = well["name"], float(well["rate"])
+    p_end = {g["fault"]: float(g["value"]) for g in par["fracture_pressure"]}
+    faults = sorted(p_end)
+    if "index" in well:
+        j = float(well["index"])
+        how = "the deck's index"
+    else:
+        r_e = 0.14 * np.hypot(h, w)
+        j = 2.0 * np.pi * a0**3 / (12.0 * mu * np.log(r_e / float(well["radius"])))
+        how = f"Peaceman's (r_e {r_e:.4g} m)"
+    g = a0**3 * w / (12.0 * mu * h) * (1.0 / nl + 1.0 / nr)
+    c = 1.0 / (1.0 / j + 1.0 / g)
+    pw = (q + sum(c * p_end[f] for f in faults)) / (len(faults) * c)
+    with open(path + "_probes.csv") as fh:
+        last = list(csv.DictReader(fh))[-1]
+    rate = {f: float(last[f"{name}@{f}:rate [m3/s]"]) for f in faults}
+    pres = {f: float(last[f"{name}@{f}:pressure [Pa]"]) for f in faults}
+    pw_csv = float(last[f"{name}:pressure [Pa]"])
+    e_rate = max(abs(rate[f] / (c * (pw - p_end[f])) - 1.0) for f in faults)
+    e_sum = abs(sum(rate.values()) - q) / q
+    e_j = max(abs(rate[f] - j * (pw_csv - pres[f])) / abs(rate[f]) for f in faults)
+    shown = ", ".join(f"{f} {rate[f]:.6e} (exact {c * (pw - p_end[f]):.6e})" for f in faults)
+    print(f"split: J {j:.4e} m3/(Pa s) ({how}), rates {shown} m3/s: largest error {e_rate:.2e}; "
+          f"sum against Q {e_sum:.1e}; q = J (p_w - p) to {e_j:.1e}")
+    return e_rate <= tol and e_sum <= 1e-12 and e_j <= 1e-10
+
+
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] in ("-h", "--help"):
         print(__doc__)
@@ -213,6 +257,8 @@ if __name__ == "__main__":
         ok = cubic(args[0], *[float(v) for v in args[1:6]])
     elif cmd == "onset":
         ok = onset(args[0], float(args[1]))
+    elif cmd == "split":
+        ok = split(args[0], *[float(v) for v in args[1:5]], float(args[5]))
     elif cmd == "same":
         ok = same(args[0], args[1], float(args[2]))
     else:

@@ -16,6 +16,10 @@
 #    disc's area, within 12.5 % at h = a/12 (the error is first order, about
 #    1.3 h / a: 3 % needs h = a/48, README), falling from h = a/6; the fluid
 #    volume equals the injected one (1e-10); 1 vs 2 ranks at h = a/6 (1e-8);
+#  - one well along a segment across two fractures held at different end
+#    pressures (tests/decks/flow_split.nml): the steady rates against the
+#    1-D chains' conductances and the connection index (Peaceman's, the
+#    deck's) to 1e-10, summing to Q; 1 vs 3 ranks; FGMRES vs MUMPS;
 #  - slip onset under a rising pressure (tests/decks/flow_onset.nml): between
 #    the last all-stick step and the first slipping one, around
 #    sigma_n - tau / tan(phi) for the homogeneous stress (midpoint within 2 %);
@@ -91,6 +95,26 @@ run penny_coarse1 1 && check "penny, h = a/6, 1 vs 2 ranks (1e-8)" $PY tests/ver
 deck steady tests/decks/flow_steady.nml
 run steady 2 && check "cubic law: steady flux between prescribed pressures = a0^3 dp / (12 mu L) (1e-10)" $PY \
   tests/verification/check_flow.py cubic "$out/steady" 1.0e-4 1.0e-3 1.0e6 1.875 1e-10
+# one well along a segment across two fractures (tests/decks/flow_split.nml):
+# the steady split of its rate by their pressures, with Peaceman's index (3
+# ranks: the two connections on different ranks) and with the deck's index;
+# 1 vs 3 ranks; FGMRES with the u-t-p preconditioner against MUMPS
+deck split tests/decks/flow_split.nml
+deck split1 tests/decks/flow_split.nml
+deck split_index tests/decks/flow_split.nml -e "s#radius = 0.01#index = 2.0e-10#"
+deck split_fgmres tests/decks/flow_split.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
+if run split 3; then
+  check "well across two fractures, Peaceman's index: steady rates (p_w - p_end) / (1/J + 1/G) (1e-10)" $PY \
+    tests/verification/check_flow.py split "$out/split" 0.5 0.125 6 9 1e-10
+  grep -q "well 'w': along its segment, the rate split by pressure among 2 fault(s): 'fa' element at (0.5, 0.8125, 0.25)" \
+    "$out/split.log" && ok "the log names the well's connections" || ko "the log does not name the well's connections"
+  run split1 1 && check "well across two fractures, 1 vs 3 ranks (1e-8)" $PY tests/verification/check_flow.py same \
+    "$out/split1" "$out/split" 1e-8
+  run split_fgmres 2 && check "well across two fractures, FGMRES vs MUMPS (1e-8)" $PY tests/verification/check_flow.py \
+    same "$out/split_fgmres" "$out/split" 1e-8
+fi
+run split_index 2 && check "well across two fractures, the deck's index: steady rates (1e-10)" $PY \
+  tests/verification/check_flow.py split "$out/split_index" 0.5 0.125 6 9 1e-10
 # slip onset under rising pressure, a fracture far from the well stays closed
 deck onset tests/decks/flow_onset.nml
 if run onset 2; then
