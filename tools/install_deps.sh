@@ -4,7 +4,7 @@
 set -euo pipefail
 pkgs="gfortran make libopenmpi-dev openmpi-bin libhypre-dev libmetis-dev libmumps-dev
       libhdf5-openmpi-dev liblapack-dev libopenblas-dev python3 python3-numpy python3-h5py
-      python3-matplotlib python3-meshio bc time"
+      python3-matplotlib python3-meshio python3-petsc4py bc time"
 missing=""
 for p in $pkgs; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

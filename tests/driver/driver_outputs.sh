@@ -125,6 +125,14 @@ print(f"{n} rows (blocks {','.join(names)}: t {t_}, u {u_}, p {p_}), max |A_up +
       f"solvable (|D A D y - D b| = {np.linalg.norm(k @ x - b) / np.linalg.norm(b):.1e})")
 PY
 ); then ok "export_step: $r"; else ko "export_step: $r"; fi
+# 2b'. the PETSc peer of make bench (bench/peer_petsc.py: nested Schur
+# fieldsplit, BoomerAMG and Jacobi on the blocks) on that exported system
+if r=$($PY bench/peer_petsc.py --rtol 1e-10 "$out/export_step/flow_states_step2_newton2" 2>&1) \
+   && grep -q "^petsc fieldsplit (t,p,u): converged, iterations [0-9]*, " <<< "$r"; then
+  ok "PETSc fieldsplit peer on the exported u-t-p system: $r"
+else
+  ko "PETSc fieldsplit peer on the exported u-t-p system: $r"
+fi
 # 2c. export_step naming a step the run does not make: a warning at the end,
 # no files, exit 0
 sed -e "s#dir = '$out/export', prefix = 'cube', fields = .false., export_matrix = .true.#dir = '$out/export_none', prefix = 'cube', fields = .false.#" \
