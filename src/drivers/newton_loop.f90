@@ -122,9 +122,10 @@ contains
     type(error_status_t) :: status
     type(solve_info_t) :: info
     character(len=path_len) :: base
-    logical :: has_nan
+    logical :: has_nan, exported
     why = ''
     its = 0
+    exported = .false.
     call timers%start('preconditioner set-up')
     call sim%linear_system(self%ls%is_direct(), self%sys, log, status)
     call timers%stop('preconditioner set-up')
@@ -148,6 +149,7 @@ contains
                     'sees it written to '//trim(base)//'_K.mtx, _rhs.mtx, _fields.mtx'// &
                     trim(merge(', _scaling.mtx', '              ', associated(self%sys%d))))
       self%step_exported = .true.
+      exported = .true.
     end if
     if (sim%solver%elastic_reference .and. .not. self%reference_done .and. associated(self%sys%k_ref)) then
       call solve_elastic_reference(sim%comm, log, self%sys%k_ref, self%sys%b_ref, sim%solver%rtol, &
@@ -162,6 +164,10 @@ contains
     stats%t_setup = stats%t_setup + self%ls%t_factor
     stats%t_solve = stats%t_solve + info%solve_time
     its = info%iterations
+    ! the exported system's own figures, for a peer solving the same files
+    if (exported) call log%info('step '//itoa(step)//', Newton iteration '//itoa(it)//' (exported): iterations '// &
+      itoa(info%iterations)//', set-up '//trim(secs_text(self%sys%setup_time + self%ls%t_factor))//' s, solve '// &
+      trim(secs_text(info%solve_time))//' s')
     stats%linear_its = stats%linear_its + info%iterations
     stats%rel_res = info%rel_res
     if (allocated(info%history)) call self%history%write(step, t, it, info%history)
@@ -194,4 +200,12 @@ contains
     call self%history%close()
     call self%sys%reset()
   end subroutine free
+
+  !> Seconds as text with 3 decimals.
+  function secs_text(x) result(t)
+    real(rp), intent(in) :: x
+    character(len=24) :: t
+    write(t, '(f0.3)') x
+    if (t(1:1) == '.') t = '0'//t
+  end function secs_text
 end module newton_loop

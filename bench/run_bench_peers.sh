@@ -1,0 +1,109 @@
+#!/usr/bin/env bash
+# Peers on the very same linear systems (issue 15): geoblock exports one
+# system of a run (&solver export_step, export_newton: the matrix and
+# right-hand side as our FGMRES sees them, with the block of every row) and
+# logs its own iterations, set-up and solve for it; bench/peer_petsc.py then
+# solves the exported files with PETSc's nested Schur fieldsplit (selfp,
+# BoomerAMG with our settings) on 1 rank and on the run's ranks; MUMPS on the
+# same deck gives the direct reference (factorization + solve of that system,
+# peak memory of the run).
+# Cases:
+#   mandel N G : Mandel (input/mandel.nml, quarter model, N x N x N/10; 80 is
+#                the seed's size), one step of dt = G (the seed's gamma)
+#   contact N MIX : the 5-level contact block at N cells per side
+#                (tests/decks/contact_block.nml), friction 80 (stick) or 10
+#                degrees (slip), its second Newton iteration
+#   nine N ORDER : the nine-fracture injection case on N cells per side
+#                (tests/decks/flow_nine.nml; 17: 4 m cells), the first slipping
+#                step's second Newton iteration (step 4), pressure_block ORDER
+#                ('eliminated': blocks t, p, u; 'schur': t, u, p)
+# Usage: bench/run_bench_peers.sh [ranks] [cases, each "kind:N:arg"] [mumps: yes|no]
+set -u
+cd "$(dirname "$0")/.."
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+np=${1:-2}
+cases=${2:-"mandel:40:0.15 mandel:40:1 mandel:40:100 mandel:80:0.15 mandel:80:1 mandel:80:100 contact:40:stick contact:40:slip nine:17:eliminated nine:17:schur"}
+with_mumps=${3:-yes}
+PY=${PYTHON:-/usr/bin/python3}
+out=build/bench/peers
+mkdir -p "$out"
+cp tests/decks/nine_fractures_rate.tab "$out/"
+table=build/bench/peers.md
+echo "| case | unknowns (blocks) | geoblock: its / set-up / solve / total [s] | PETSc fieldsplit, 1 rank: its / total [s] / peak MB | PETSc fieldsplit, $np ranks: its / total [s] | geoblock / PETSc ($np ranks) | MUMPS ($np ranks): total [s] / peak MB of a rank |" > "$table"
+echo "|---|---|---|---|---|---|---|" >> "$table"
+
+deck() {  # kind n arg solver name -> $out/name.nml; prints the export's step and Newton iteration
+  local kind=$1 n=$2 arg=$3 solver=$4 name=$5
+  case $kind in
+    mandel)
+      local nz=$((n / 10))
+      sed -e "s#nx = 20, ny = 20, nz = 1#nx = $n, ny = $n, nz = $nz#" \
+          -e "s#upper = 1.0, 1.0, 0.05#upper = 1.0, 1.0, $(echo "scale=6; $nz / $n" | bc)#" \
+          -e "s#dt = 0.05, t_end = 200.0, dt_growth = 1.12, dt_max = 5.0#dt = $arg, t_end = $arg, undrained = .false.#" \
+          -e "s#method = 'fgmres', precon = 'block', rtol = 1.0e-8#$solver, export_step = 1, export_newton = 1#" \
+          -e "s#dir = 'out', prefix = 'mandel'#dir = '$out', prefix = '$name', fields = .false.#" \
+          -e "s#history = 'mandel_plate.tab'#history = '$PWD/input/mandel_plate.tab'#" \
+          input/mandel.nml > "$out/$name.nml" ;;
+    contact)
+      local fric=80.0
+      [ "$arg" = slip ] && fric=10.0
+      sed -e "s/nx = 12, ny = 12, nz = 12/nx = $n, ny = $n, nz = $n/" \
+          -e "s/method = 'mumps'/$solver, export_step = 1, export_newton = 2/" \
+          -e "s/n_steps = 2/n_steps = 1/" -e "s/friction_angle = 10.0/friction_angle = $fric/" \
+          -e "s#prefix = 'contact_block'#prefix = '$name', fields = .false.#" -e "s#dir = 'out'#dir = '$out'#" \
+          tests/decks/contact_block.nml > "$out/$name.nml" ;;
+    nine)
+      sed -e "s#dir = 'out'#dir = '$out'#" -e "s#prefix = 'flow_nine'#prefix = '$name', fields = .false.#" \
+          -e "s#nx = 17, ny = 17, nz = 17#nx = $n, ny = $n, nz = $n#" -e "s#t_end = 15.0#t_end = 10.0#" \
+          -e "s#method = 'mumps'#$solver, export_step = 4, export_newton = 2#" \
+          -e "s#initial_pressure = 4.0e6#initial_pressure = 4.0e6, pressure_block = '$arg'#" \
+          tests/decks/flow_nine.nml > "$out/$name.nml" ;;
+  esac
+}
+
+for c in $cases; do
+  IFS=: read -r kind n arg <<< "$c"
+  name=${kind}_${n}_${arg}
+  restart=100
+  [ "$kind" = nine ] && restart=300
+  deck "$kind" "$n" "$arg" "method = 'fgmres', rtol = 1.0e-8, restart = $restart" "$name"
+  echo "== $name"
+  mpirun -np "$np" bin/geoblock "$out/$name.nml" > "$out/$name.stdout" 2>&1 < /dev/null
+  line=$(grep -m1 '(exported): iterations' "$out/$name.log")
+  if [ -z "$line" ]; then
+    echo "| $name | | run failed or exported nothing, see $out/$name.stdout | | | | |" >> "$table"
+    continue
+  fi
+  its=$(sed -E 's/.*iterations ([0-9]+),.*/\1/' <<< "$line")
+  su=$(sed -E 's/.*set-up ([0-9.]+) s.*/\1/' <<< "$line")
+  so=$(sed -E 's/.*solve ([0-9.]+) s.*/\1/' <<< "$line")
+  tot=$(awk -v a="$su" -v b="$so" 'BEGIN {printf "%.3f", a + b}')
+  stem=$(ls "$out/${name}"_step*_newton*_K.mtx | head -1)
+  stem=${stem%_K.mtx}
+  blocks=$(sed -n 3p "${stem}_fields.mtx" | sed -E 's/.*: //')
+  rows=$(sed -n 4p "${stem}_fields.mtx" | awk '{print $1}')
+  p1=$($PY bench/peer_petsc.py --restart "$restart" --ours-setup "$su" --ours-solve "$so" --ours-its "$its" "$stem" 2>&1)
+  pn=$(mpirun -np "$np" $PY bench/peer_petsc.py --restart "$restart" --ours-setup "$su" --ours-solve "$so" "$stem" 2>&1)
+  echo "   geoblock: $line"; echo "   $p1"; echo "   $pn"
+  get() { sed -E "s/.*$1 ([0-9.]+).*/\\1/" <<< "$2"; }
+  p1c="$(get iterations "$p1") / $(get total "$p1") / $(get 'peak memory' "$p1")"
+  pnc="$(get iterations "$pn") / $(get total "$pn")"
+  grep -q "NOT converged" <<< "$p1" && p1c="not converged: $p1c"
+  grep -q "NOT converged" <<< "$pn" && pnc="not converged: $pnc"
+  ratio=$(get 'ratio ours \/ petsc' "$pn")
+  m="not run"
+  if [ "$with_mumps" = yes ]; then
+    deck "$kind" "$n" "$arg" "method = 'mumps'" "${name}_mumps"
+    /usr/bin/time -v mpirun -np "$np" bin/geoblock "$out/${name}_mumps.nml" > "$out/${name}_mumps.stdout" 2>&1 < /dev/null
+    ml=$(grep -m1 '(exported): iterations' "$out/${name}_mumps.log")
+    if [ -n "$ml" ]; then
+      mt=$(awk -v a="$(sed -E 's/.*set-up ([0-9.]+) s.*/\1/' <<< "$ml")" -v b="$(sed -E 's/.*solve ([0-9.]+) s.*/\1/' <<< "$ml")" 'BEGIN {printf "%.3f", a + b}')
+      mm=$(grep -m1 'Maximum resident set size' "$out/${name}_mumps.stdout" | awk '{print int($NF/1024)}')
+      m="$mt / $mm"
+    else
+      m="failed, see $out/${name}_mumps.stdout"
+    fi
+  fi
+  echo "| $name | $rows ($blocks) | $its / $su / $so / $tot | $p1c | $pnc | ${ratio:--} | $m |" | tee -a "$table"
+done
+echo "table: $table"
