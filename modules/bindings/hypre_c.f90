@@ -1,5 +1,6 @@
 !> Raw bind(C) interfaces to the part of the hypre 2.26 C API that geoblock uses
-!> (IJ matrices and vectors, ParCSR mat-vec, BoomerAMG, error handling).
+!> (IJ matrices and vectors, ParCSR mat-vec, BoomerAMG, FSAI, MGR, error
+!> handling).
 !>
 !> Prototypes follow /usr/include/hypre/{HYPRE_utilities,HYPRE_IJ_mv,
 !> HYPRE_parcsr_mv,HYPRE_parcsr_ls}.h of Debian's build: HYPRE_Int and
@@ -14,7 +15,7 @@
 !> hypre 2.26 creates its global handle on first use (hypre_handle()).
 !> Nothing here holds state; the wrapper hypre_ij owns the handles.
 module hypre_c
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_int, c_char, c_size_t
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_funptr, c_int, c_char, c_size_t
   use kinds, only: hypre_int, hypre_bigint, hypre_real
   implicit none
   private
@@ -54,6 +55,12 @@ module hypre_c
   public :: HYPRE_FSAISetKapTolerance, HYPRE_FSAISetOmega, HYPRE_FSAISetMaxIterations
   public :: HYPRE_FSAISetEigMaxIters, HYPRE_FSAISetTolerance, HYPRE_FSAISetPrintLevel
   public :: HYPRE_FSAISetZeroGuess
+  public :: HYPRE_MGRCreate, HYPRE_MGRDestroy, HYPRE_MGRSetup, HYPRE_MGRSolve
+  public :: HYPRE_MGRSetCpointsByPointMarkerArray, HYPRE_MGRSetNonCpointsToFpoints
+  public :: HYPRE_MGRSetMaxCoarseLevels, HYPRE_MGRSetLevelFRelaxType, HYPRE_MGRSetCoarseGridMethod
+  public :: HYPRE_MGRSetLevelInterpType, HYPRE_MGRSetLevelRestrictType, HYPRE_MGRSetLevelNumRelaxSweeps
+  public :: HYPRE_MGRSetFSolver, HYPRE_MGRSetCoarseSolver, HYPRE_MGRSetMaxIter, HYPRE_MGRSetTol
+  public :: HYPRE_MGRSetPrintLevel, HYPRE_MGRSetPMaxElmts, HYPRE_MGRSetMaxGlobalSmoothIters
 
   interface
 
@@ -680,6 +687,173 @@ module hypre_c
       integer(hypre_int), value :: zero_guess
       integer(hypre_int) :: ierr
     end function HYPRE_FSAISetZeroGuess
+
+
+    ! ---- MGR (HYPRE_parcsr_ls.h) -------------------------------------------
+    ! The level arrays are copied by hypre at the call; the point marker
+    ! array is kept by pointer until the solver is destroyed.
+
+    !> HYPRE_Int HYPRE_MGRCreate(HYPRE_Solver *solver)
+    function HYPRE_MGRCreate(solver) bind(C, name='HYPRE_MGRCreate') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), intent(out) :: solver
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRCreate
+
+    !> HYPRE_Int HYPRE_MGRDestroy(HYPRE_Solver solver)
+    function HYPRE_MGRDestroy(solver) bind(C, name='HYPRE_MGRDestroy') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRDestroy
+
+    !> HYPRE_Int HYPRE_MGRSetup(HYPRE_Solver, HYPRE_ParCSRMatrix A, HYPRE_ParVector b, HYPRE_ParVector x)
+    function HYPRE_MGRSetup(solver, a, b, x) bind(C, name='HYPRE_MGRSetup') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver, a, b, x
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetup
+
+    !> HYPRE_Int HYPRE_MGRSolve(HYPRE_Solver, HYPRE_ParCSRMatrix A, HYPRE_ParVector b, HYPRE_ParVector x)
+    function HYPRE_MGRSolve(solver, a, b, x) bind(C, name='HYPRE_MGRSolve') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver, a, b, x
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSolve
+
+    !> HYPRE_Int HYPRE_MGRSetCpointsByPointMarkerArray(HYPRE_Solver, HYPRE_Int block_size,
+    !>   HYPRE_Int max_num_levels, HYPRE_Int *num_block_coarse_points,
+    !>   HYPRE_Int **lvl_block_coarse_indexes, HYPRE_Int *point_marker_array)
+    function HYPRE_MGRSetCpointsByPointMarkerArray(solver, block_size, max_num_levels, num_coarse, &
+        coarse_indexes, point_marker) bind(C, name='HYPRE_MGRSetCpointsByPointMarkerArray') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: block_size, max_num_levels
+      integer(hypre_int), intent(in) :: num_coarse(*)
+      type(c_ptr), intent(in) :: coarse_indexes(*)
+      type(c_ptr), value :: point_marker
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetCpointsByPointMarkerArray
+
+    !> HYPRE_Int HYPRE_MGRSetNonCpointsToFpoints(HYPRE_Solver, HYPRE_Int flag)
+    function HYPRE_MGRSetNonCpointsToFpoints(solver, flag) bind(C, name='HYPRE_MGRSetNonCpointsToFpoints') &
+        result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: flag
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetNonCpointsToFpoints
+
+    !> HYPRE_Int HYPRE_MGRSetMaxCoarseLevels(HYPRE_Solver, HYPRE_Int maxlev)
+    function HYPRE_MGRSetMaxCoarseLevels(solver, maxlev) bind(C, name='HYPRE_MGRSetMaxCoarseLevels') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: maxlev
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetMaxCoarseLevels
+
+    !> HYPRE_Int HYPRE_MGRSetLevelFRelaxType(HYPRE_Solver, HYPRE_Int *relax_type)
+    function HYPRE_MGRSetLevelFRelaxType(solver, v) bind(C, name='HYPRE_MGRSetLevelFRelaxType') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), intent(in) :: v(*)
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetLevelFRelaxType
+
+    !> HYPRE_Int HYPRE_MGRSetCoarseGridMethod(HYPRE_Solver, HYPRE_Int *cg_method)
+    function HYPRE_MGRSetCoarseGridMethod(solver, v) bind(C, name='HYPRE_MGRSetCoarseGridMethod') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), intent(in) :: v(*)
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetCoarseGridMethod
+
+    !> HYPRE_Int HYPRE_MGRSetLevelInterpType(HYPRE_Solver, HYPRE_Int *interp_type)
+    function HYPRE_MGRSetLevelInterpType(solver, v) bind(C, name='HYPRE_MGRSetLevelInterpType') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), intent(in) :: v(*)
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetLevelInterpType
+
+    !> HYPRE_Int HYPRE_MGRSetLevelRestrictType(HYPRE_Solver, HYPRE_Int *restrict_type)
+    function HYPRE_MGRSetLevelRestrictType(solver, v) bind(C, name='HYPRE_MGRSetLevelRestrictType') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), intent(in) :: v(*)
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetLevelRestrictType
+
+    !> HYPRE_Int HYPRE_MGRSetLevelNumRelaxSweeps(HYPRE_Solver, HYPRE_Int *nsweeps)
+    function HYPRE_MGRSetLevelNumRelaxSweeps(solver, v) bind(C, name='HYPRE_MGRSetLevelNumRelaxSweeps') &
+        result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), intent(in) :: v(*)
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetLevelNumRelaxSweeps
+
+    !> HYPRE_Int HYPRE_MGRSetFSolver(HYPRE_Solver, HYPRE_PtrToParSolverFcn solve,
+    !>   HYPRE_PtrToParSolverFcn setup, HYPRE_Solver fsolver)
+    function HYPRE_MGRSetFSolver(solver, solve, setup, fsolver) bind(C, name='HYPRE_MGRSetFSolver') result(ierr)
+      import :: c_ptr, c_funptr, hypre_int
+      type(c_ptr), value :: solver
+      type(c_funptr), value :: solve, setup
+      type(c_ptr), value :: fsolver
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetFSolver
+
+    !> HYPRE_Int HYPRE_MGRSetCoarseSolver(HYPRE_Solver, HYPRE_PtrToParSolverFcn solve,
+    !>   HYPRE_PtrToParSolverFcn setup, HYPRE_Solver coarse_grid_solver)
+    function HYPRE_MGRSetCoarseSolver(solver, solve, setup, csolver) bind(C, name='HYPRE_MGRSetCoarseSolver') &
+        result(ierr)
+      import :: c_ptr, c_funptr, hypre_int
+      type(c_ptr), value :: solver
+      type(c_funptr), value :: solve, setup
+      type(c_ptr), value :: csolver
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetCoarseSolver
+
+    !> HYPRE_Int HYPRE_MGRSetMaxIter(HYPRE_Solver, HYPRE_Int max_iter)
+    function HYPRE_MGRSetMaxIter(solver, n) bind(C, name='HYPRE_MGRSetMaxIter') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: n
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetMaxIter
+
+    !> HYPRE_Int HYPRE_MGRSetTol(HYPRE_Solver, HYPRE_Real tol)
+    function HYPRE_MGRSetTol(solver, tol) bind(C, name='HYPRE_MGRSetTol') result(ierr)
+      import :: c_ptr, hypre_int, hypre_real
+      type(c_ptr), value :: solver
+      real(hypre_real), value :: tol
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetTol
+
+    !> HYPRE_Int HYPRE_MGRSetPrintLevel(HYPRE_Solver, HYPRE_Int print_level)
+    function HYPRE_MGRSetPrintLevel(solver, n) bind(C, name='HYPRE_MGRSetPrintLevel') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: n
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetPrintLevel
+
+    !> HYPRE_Int HYPRE_MGRSetPMaxElmts(HYPRE_Solver, HYPRE_Int P_max_elmts)
+    function HYPRE_MGRSetPMaxElmts(solver, n) bind(C, name='HYPRE_MGRSetPMaxElmts') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: n
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetPMaxElmts
+
+    !> HYPRE_Int HYPRE_MGRSetMaxGlobalSmoothIters(HYPRE_Solver, HYPRE_Int smooth_iter)
+    function HYPRE_MGRSetMaxGlobalSmoothIters(solver, n) bind(C, name='HYPRE_MGRSetMaxGlobalSmoothIters') &
+        result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: n
+      integer(hypre_int) :: ierr
+    end function HYPRE_MGRSetMaxGlobalSmoothIters
 
   end interface
 

@@ -34,7 +34,7 @@ module boomeramg_precon
   implicit none
   private
 
-  public :: boomeramg_precon_t
+  public :: boomeramg_precon_t, amg_configure
 
   !> One BoomerAMG V-cycle as M^-1. Holds C handles: do not copy by
   !> assignment; call free() when done.
@@ -172,7 +172,7 @@ contains
     integer(hypre_int) :: ierr
     integer(hypre_int), pointer :: f(:)
     type(c_ptr) :: fp
-    integer :: down, up, n
+    integer :: n
     logical :: no_memory
 
     p = self%params
@@ -181,29 +181,7 @@ contains
     self%solver = c_null_ptr
     ierr = HYPRE_ClearAllErrors()
     ierr = HYPRE_BoomerAMGCreate(self%solver)
-    ! a preconditioner: exactly one cycle, no convergence test
-    ierr = HYPRE_BoomerAMGSetTol(self%solver, 0.0_rp)
-    ierr = HYPRE_BoomerAMGSetMaxIter(self%solver, 1_hypre_int)
-    ierr = HYPRE_BoomerAMGSetPrintLevel(self%solver, int(p%print_level, hypre_int))
-    ierr = HYPRE_BoomerAMGSetCoarsenType(self%solver, int(p%coarsen_id(), hypre_int))
-    ierr = HYPRE_BoomerAMGSetInterpType(self%solver, int(p%interp_id(), hypre_int))
-    ierr = HYPRE_BoomerAMGSetPMaxElmts(self%solver, int(p%p_max_elmts, hypre_int))
-    ierr = HYPRE_BoomerAMGSetTruncFactor(self%solver, p%trunc_factor)
-    ierr = HYPRE_BoomerAMGSetAggNumLevels(self%solver, int(p%agg_num_levels, hypre_int))
-    ierr = HYPRE_BoomerAMGSetAggInterpType(self%solver, int(p%agg_interp_id(), hypre_int))
-    ierr = HYPRE_BoomerAMGSetAggPMaxElmts(self%solver, int(p%agg_p_max_elmts, hypre_int))
-    ierr = HYPRE_BoomerAMGSetNumPaths(self%solver, int(p%num_paths, hypre_int))
-    ierr = HYPRE_BoomerAMGSetStrongThreshold(self%solver, p%strong_threshold)
-    ierr = HYPRE_BoomerAMGSetMaxRowSum(self%solver, p%max_row_sum)
-    ierr = HYPRE_BoomerAMGSetMaxLevels(self%solver, int(p%max_levels, hypre_int))
-    ierr = HYPRE_BoomerAMGSetMaxCoarseSize(self%solver, int(p%max_coarse_size, hypre_int))
-    call p%relax_ids(down, up)
-    ierr = HYPRE_BoomerAMGSetRelaxType(self%solver, int(down, hypre_int))
-    ierr = HYPRE_BoomerAMGSetCycleRelaxType(self%solver, int(down, hypre_int), 1_hypre_int)
-    ierr = HYPRE_BoomerAMGSetCycleRelaxType(self%solver, int(up, hypre_int), 2_hypre_int)
-    ierr = HYPRE_BoomerAMGSetCycleRelaxType(self%solver, 9_hypre_int, 3_hypre_int)
-    ierr = HYPRE_BoomerAMGSetNumSweeps(self%solver, int(p%num_sweeps, hypre_int))
-    ierr = HYPRE_BoomerAMGSetRelaxWt(self%solver, p%relax_wt)
+    call amg_configure(self%solver, p)
     if (p%num_functions > 1) then
       ierr = HYPRE_BoomerAMGSetNumFunctions(self%solver, int(p%num_functions, hypre_int))
       ierr = HYPRE_BoomerAMGSetNodal(self%solver, int(p%nodal, hypre_int))
@@ -231,6 +209,39 @@ contains
     if (allocated(self%level_rows)) deallocate(self%level_rows)
     self%grid_complexity = 0.0_rp
   end subroutine build_hierarchy
+
+  !> Settings p on the BoomerAMG solver handle `solver` as a preconditioner
+  !> (one cycle from a zero guess, no convergence test), all but the
+  !> function map of systems (the caller's). Also for a BoomerAMG that
+  !> another hypre solver runs (the F-relaxation or coarse grid of MGR).
+  subroutine amg_configure(solver, p)
+    type(c_ptr), intent(in) :: solver
+    type(amg_params_t), intent(in) :: p
+    integer(hypre_int) :: ierr
+    integer :: down, up
+    ierr = HYPRE_BoomerAMGSetTol(solver, 0.0_rp)
+    ierr = HYPRE_BoomerAMGSetMaxIter(solver, 1_hypre_int)
+    ierr = HYPRE_BoomerAMGSetPrintLevel(solver, int(p%print_level, hypre_int))
+    ierr = HYPRE_BoomerAMGSetCoarsenType(solver, int(p%coarsen_id(), hypre_int))
+    ierr = HYPRE_BoomerAMGSetInterpType(solver, int(p%interp_id(), hypre_int))
+    ierr = HYPRE_BoomerAMGSetPMaxElmts(solver, int(p%p_max_elmts, hypre_int))
+    ierr = HYPRE_BoomerAMGSetTruncFactor(solver, p%trunc_factor)
+    ierr = HYPRE_BoomerAMGSetAggNumLevels(solver, int(p%agg_num_levels, hypre_int))
+    ierr = HYPRE_BoomerAMGSetAggInterpType(solver, int(p%agg_interp_id(), hypre_int))
+    ierr = HYPRE_BoomerAMGSetAggPMaxElmts(solver, int(p%agg_p_max_elmts, hypre_int))
+    ierr = HYPRE_BoomerAMGSetNumPaths(solver, int(p%num_paths, hypre_int))
+    ierr = HYPRE_BoomerAMGSetStrongThreshold(solver, p%strong_threshold)
+    ierr = HYPRE_BoomerAMGSetMaxRowSum(solver, p%max_row_sum)
+    ierr = HYPRE_BoomerAMGSetMaxLevels(solver, int(p%max_levels, hypre_int))
+    ierr = HYPRE_BoomerAMGSetMaxCoarseSize(solver, int(p%max_coarse_size, hypre_int))
+    call p%relax_ids(down, up)
+    ierr = HYPRE_BoomerAMGSetRelaxType(solver, int(down, hypre_int))
+    ierr = HYPRE_BoomerAMGSetCycleRelaxType(solver, int(down, hypre_int), 1_hypre_int)
+    ierr = HYPRE_BoomerAMGSetCycleRelaxType(solver, int(up, hypre_int), 2_hypre_int)
+    ierr = HYPRE_BoomerAMGSetCycleRelaxType(solver, 9_hypre_int, 3_hypre_int)
+    ierr = HYPRE_BoomerAMGSetNumSweeps(solver, int(p%num_sweeps, hypre_int))
+    ierr = HYPRE_BoomerAMGSetRelaxWt(solver, p%relax_wt)
+  end subroutine amg_configure
 
   !> Measure the hierarchy of the last set-up: num_levels, level_rows and
   !> grid_complexity, from the last level that holds each fine row. hypre

@@ -5,7 +5,10 @@
 !>   precon    'boomeramg' (settings in &amg), 'jacobi', 'afsai' (our adaptive
 !>             FSAI, settings in &afsai), 'hypre_fsai' (hypre's FSAI with the
 !>             max_steps, step_size and tol of &afsai) or 'none'; for
-!>             physics = 'biot': 'block' (the block preconditioner)      ['boomeramg', biot: 'block']
+!>             physics = 'biot': 'block' (the block preconditioner); biot,
+!>             contact and fracture_flow: 'block' (ours) or 'mgr' (hypre's
+!>             MGR on the whole system, GEOS's strategies: the peer of the
+!>             benchmarks, mgr_precon.f90)   ['boomeramg', biot and contact: 'block']
 !>   decoupling biot: approximation of the decoupling factors F and G of the
 !>             block framework: 'implicit' (products with the coupling blocks
 !>             and the inner preconditioners) or 'explicit' (block aFSAI
@@ -113,9 +116,9 @@ contains
     if (method /= 'fgmres' .and. method /= 'cg' .and. method /= 'mumps') &
       call d%fail(status, 'solver', 1, 'method', "must be one of 'fgmres', 'cg', 'mumps' (got '"//trim(method)//"')")
     if (precon /= 'boomeramg' .and. precon /= 'jacobi' .and. precon /= 'afsai' .and. precon /= 'hypre_fsai' .and. &
-        precon /= 'none' .and. precon /= 'block') &
+        precon /= 'none' .and. precon /= 'block' .and. precon /= 'mgr') &
       call d%fail(status, 'solver', 1, 'precon', "must be one of 'boomeramg', 'jacobi', 'afsai', 'hypre_fsai', "// &
-                  "'none', 'block' (got '"//trim(precon)//"')")
+                  "'none', 'block', 'mgr' (got '"//trim(precon)//"')")
     if (decoupling /= 'implicit' .and. decoupling /= 'explicit') &
       call d%fail(status, 'solver', 1, 'decoupling', "must be 'implicit' or 'explicit' (got '"//trim(decoupling)//"')")
     if (block_mode == '') block_mode = merge('ldu_cheap', 'ldu      ', decoupling /= 'explicit')
@@ -181,7 +184,7 @@ contains
     type(param_group_t), intent(out) :: g
     call g%init('solver')
     call g%add('method', self%method, '-', "'fgmres', 'cg' or 'mumps'")
-    call g%add('precon', self%precon, '-', "'boomeramg', 'jacobi', 'afsai', 'hypre_fsai', 'none' or 'block'")
+    call g%add('precon', self%precon, '-', "'boomeramg', 'jacobi', 'afsai', 'hypre_fsai', 'none', 'block' or 'mgr'")
     call g%add('rtol', self%rtol, '-', 'relative residual tolerance')
     call g%add('atol', self%atol, '-', 'absolute residual tolerance')
     call g%add('max_iter', self%max_iter, '-', 'iteration cap')

@@ -206,6 +206,6 @@ contains
     real(rp), intent(in) :: x
     character(len=24) :: t
     write(t, '(f0.3)') x
-    if (t(1:1) == '.') t = '0'//t
+    if (t(1:1) == '.') t = '0'//t(1:23)
   end function secs_text
 end module newton_loop

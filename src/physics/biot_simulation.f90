@@ -28,6 +28,7 @@ module biot_simulation
   use probe_fields, only: probe_fields_t
   use poromechanics, only: poromechanics_t, iu, iq, ipr
   use biot_precon, only: biot_precon_t
+  use mgr_precon, only: mgr_precon_t, mgr_biot
   use param_group, only: param_group_t
   use simulation, only: simulation_t, foreign_len, common_parameter_groups, step_stats_t
   implicit none
@@ -40,6 +41,8 @@ module biot_simulation
     type(biot_config_t) :: bcfg                     !< &biot
     type(source_config_t), allocatable :: srcs(:)   !< &source groups
     type(biot_precon_t) :: bpc
+    type(mgr_precon_t) :: mgr                      !< &solver precon = 'mgr': hypre's MGR (the peer)
+    real(rp) :: mgr_dt = -1.0_rp                   !< dt of the MGR set-up
     type(amg_params_t) :: amg_s                     !< BoomerAMG settings of the scalar blocks
     real(rp), allocatable :: dscale(:)              !< scaling of the block system
     real(rp) :: t = 0.0_rp, dt = 0.0_rp             !< the step's end time and size [s]
@@ -92,9 +95,9 @@ contains
     if (self%solver%method == 'cg') then
       call status%set("deck '"//trim(d%path)//"', group &solver, variable method: "// &
         "the Biot system is not symmetric positive definite: use 'fgmres' or 'mumps'")
-    else if (self%solver%method == 'fgmres' .and. self%solver%precon /= 'block') then
+    else if (self%solver%method == 'fgmres' .and. self%solver%precon /= 'block' .and. self%solver%precon /= 'mgr') then
       call status%set("deck '"//trim(d%path)//"', group &solver, variable precon: physics = 'biot' with fgmres "// &
-        "needs precon = 'block'")
+        "needs precon = 'block' (or hypre's 'mgr')")
     end if
   end subroutine read_deck
 
@@ -119,6 +122,9 @@ contains
     end associate
     if (self%solver%method == 'mumps') then
       call log%info('linear solver: MUMPS direct solver on the assembled block system')
+    else if (self%solver%precon == 'mgr') then
+      call log%info("linear solver: fgmres + hypre's MGR on the whole system (GEOS's poromechanics strategy: "// &
+                    'u by BoomerAMG, then q by Jacobi, p by BoomerAMG)')
     else
       call log%info('linear solver: fgmres + block preconditioner ('//trim(self%solver%decoupling)//' factors, '// &
                     trim(self%solver%block_mode)//', Schur '//trim(self%solver%schur)//')')
@@ -169,6 +175,19 @@ contains
     sys%m => self%bpc%bp
     sys%d => self%dscale
     sys%setup_time = self%t_p1 + self%t_p2
+    if (self%solver%precon == 'mgr') then
+      ! hypre's MGR on the whole system (the block preconditioner above
+      ! still gives the scaling and the elastic reference's AMG)
+      sys%setup_time = 0.0_rp
+      if (self%dt /= self%mgr_dt) then
+        call self%mgr%setup_blocks(self%phys%sys, [3, 1, 1], [0, 3, 4], mgr_biot(), self%amg, status)
+        call agree(self%comm, status)
+        if (.not. status%ok()) return
+        self%mgr_dt = self%dt
+        sys%setup_time = self%mgr%setup_time
+      end if
+      sys%m => self%mgr
+    end if
     call self%phys%sys%block_range(iu, u0, u1)
     sys%k_ref => self%phys%sys%a(iu, iu)
     sys%b_ref => self%phys%rhs(u0:u1)
@@ -376,6 +395,7 @@ contains
   subroutine free(self)
     class(biot_simulation_t), intent(inout) :: self
     call self%bpc%free()
+    call self%mgr%free()
     call self%phys%free()
     if (allocated(self%dscale)) deallocate(self%dscale)
     self%setup_done = .false.

@@ -28,6 +28,7 @@ module contact_simulation
   use contact, only: contact_t, state_open, state_slip
   use mesh_pieces, only: mesh_pieces_t
   use contact_precon, only: contact_precon_t
+  use mgr_precon, only: mgr_precon_t, mgr_contact, mgr_flow
   use param_group, only: param_group_t
   use simulation, only: simulation_t, foreign_len, common_parameter_groups, step_stats_t
   implicit none
@@ -45,6 +46,7 @@ module contact_simulation
     type(contact_t) :: phys
     type(contact_config_t) :: ccfg                  !< &contact
     type(contact_precon_t) :: cpc
+    type(mgr_precon_t) :: mgr                      !< &solver precon = 'mgr': hypre's MGR (the peer)
     type(fracture_output_t) :: fout
     character(len=path_len) :: fractures_xdmf = ''  !< the XDMF file of the fault fields, once open
     real(rp), allocatable :: dx(:)                  !< Newton update of the block vector
@@ -108,6 +110,9 @@ contains
     if (self%solver%method == 'cg') then
       call status%set("deck '"//trim(d%path)//"', group &solver, variable method: "// &
         "the contact system is a saddle point: use 'fgmres' or 'mumps'")
+    else if (self%solver%method == 'fgmres' .and. self%solver%precon /= 'block' .and. self%solver%precon /= 'mgr') then
+      call status%set("deck '"//trim(d%path)//"', group &solver, variable precon: the contact system with fgmres "// &
+        "needs precon = 'block' (ours, &contact block) or 'mgr' (hypre's)")
     else if (size(self%faults) == 0) then
       call status%set("deck '"//trim(d%path)//"': physics = 'contact' needs at least one &fault group")
     end if
@@ -194,7 +199,13 @@ contains
     if (self%solver%method == 'mumps') then
       call log%info('linear solver: MUMPS (direct) at every Newton iteration')
     else
-      call log%info('linear solver: FGMRES with the '//trim(self%ccfg%block)//' block preconditioner')
+      if (self%solver%precon == 'mgr') then
+        call log%info("linear solver: FGMRES with hypre's MGR on the whole system (GEOS's contact strategy: "// &
+                      't by l1-Jacobi'//trim(merge(', then p by Jacobi', '                  ', self%flow))// &
+                      ', u by BoomerAMG)')
+      else
+        call log%info('linear solver: FGMRES with the '//trim(self%ccfg%block)//' block preconditioner')
+      end if
     end if
     allocate(self%dx(size(self%phys%x)), self%dsc(size(self%phys%x)))
   end subroutine setup
@@ -262,20 +273,49 @@ contains
       return
     end if
     t0 = wall_time()
-    call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon)
+    if (self%solver%precon == 'mgr') then
+      call mgr_setup(self, status)
+    else
+      call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon)
+    end if
     call agree(self%comm, status)
     if (.not. status%ok()) then
       status%msg = 'preconditioner set-up: '//trim(status%msg)
       return
     end if
     call scaling(self)
-    sys%m => self%cpc%bp
+    if (self%solver%precon == 'mgr') then
+      sys%m => self%mgr
+    else
+      sys%m => self%cpc%bp
+    end if
     sys%d => self%dsc
     sys%setup_time = wall_time() - t0
     call self%phys%sys%block_range(self%phys%bu, u0, u1)
     sys%k_ref => self%phys%sys%a(self%phys%bu, self%phys%bu)
     sys%b_ref => self%phys%rhs(u0:u1)
   end subroutine linear_system
+
+  !> hypre's MGR on the whole system as the preconditioner (labels: the
+  !> displacement and traction components, the pressure). Collective.
+  subroutine mgr_setup(self, status)
+    type(contact_simulation_t), intent(inout), target :: self
+    type(error_status_t), intent(inout) :: status
+    integer :: ncomp(3), first(3)
+    associate (phys => self%phys)
+      ncomp(phys%bu) = 3
+      first(phys%bu) = 0
+      ncomp(phys%bt) = 3
+      first(phys%bt) = 3
+      if (self%flow) then
+        ncomp(phys%bp) = 1
+        first(phys%bp) = 6
+        call self%mgr%setup_blocks(phys%sys, ncomp, first, mgr_flow(), self%amg, status)
+      else
+        call self%mgr%setup_blocks(phys%sys, ncomp(1:2), first(1:2), mgr_contact(), self%amg, status)
+      end if
+    end associate
+  end subroutine mgr_setup
 
   !> Every piece of the mesh, with the pieces joined by interface elements
   !> that are not open, must be held by the displacement conditions (checked
@@ -695,6 +735,7 @@ contains
   subroutine free(self)
     class(contact_simulation_t), intent(inout) :: self
     call self%cpc%free()
+    call self%mgr%free()
     call self%phys%free()
     if (allocated(self%dx)) deallocate(self%dx, self%dsc)
   end subroutine free

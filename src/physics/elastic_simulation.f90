@@ -72,6 +72,11 @@ contains
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     call self%read_common(d, log, status, 'boomeramg', flow_conditions=.false., with_faults=.false.)
+    if (.not. status%ok()) return
+    if (self%solver%precon == 'block' .or. self%solver%precon == 'mgr') &
+      call status%set("deck '"//trim(d%path)//"', group &solver, variable precon: '"//trim(self%solver%precon)// &
+        "' is for the block systems (physics 'biot', 'contact', 'fracture_flow'); elasticity takes 'boomeramg', "// &
+        "'jacobi', 'afsai', 'hypre_fsai' or 'none'")
   end subroutine read_deck
 
   !> The displacement dofs, K's pattern, the rigid-body check and the

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# The peers of make bench on tiny systems (issue 15): hypre's MGR inside
+# geoblock (&solver precon = 'mgr', mgr_precon.f90) on each block physics
+# gives the same solution as our block preconditioners or MUMPS, and the
+# log names it; an elastic deck refuses it. (The PETSc fieldsplit script is
+# checked on an exported system in driver_outputs.sh.)
+set -u
+cd "$(dirname "$0")/../.."
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+PY=${PYTHON:-/usr/bin/python3}
+out=build/test-out/peers
+rm -rf "$out"; mkdir -p "$out"
+pass=0; fail=0
+ok() { echo "  ok    $1"; pass=$((pass + 1)); }
+ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
+run() {  # deck, ranks
+  if timeout 300 mpirun --oversubscribe -np "$2" bin/geoblock "$1" > "${1%.nml}.stdout" 2>&1 < /dev/null; then return 0; fi
+  ko "run $1 on $2 ranks, see ${1%.nml}.stdout"
+  return 1
+}
+its() { grep -E "$2" "$1" | sed -E "s/.*$3 +([0-9]+).*/\\1/" | paste -sd' '; }
+
+# Biot: Mandel (input/mandel.nml on 12 x 12 x 1, five steps), block vs MGR
+for pc in block mgr; do
+  mkdir -p "$out/mandel_$pc"
+  sed -e "s#nx = 20, ny = 20, nz = 1#nx = 12, ny = 12, nz = 1#" -e "s#t_end = 200.0#t_end = 0.2#" \
+      -e "s#precon = 'block'#precon = '$pc'#" -e "s#dir = 'out', prefix = 'mandel'#dir = '$out/mandel_$pc', prefix = 'mandel'#" \
+      -e "s#history = 'mandel_plate.tab'#history = '$PWD/input/mandel_plate.tab'#" input/mandel.nml > "$out/mandel_$pc.nml"
+done
+if run "$out/mandel_block.nml" 2 && run "$out/mandel_mgr.nml" 2; then
+  grep -q "linear solver: fgmres + hypre's MGR on the whole system" "$out/mandel_mgr/mandel.log" \
+    && ok "Biot with MGR: the log names it" || ko "Biot with MGR: the log does not name it"
+  if r=$($PY tests/invariance/compare_runs.py "$out/mandel_block" "$out/mandel_mgr" mandel 1e-6 pressure displacement 2>&1); then
+    ok "Biot (Mandel), MGR vs block preconditioner, pressure and displacement (1e-6); its $(its "$out/mandel_mgr/mandel.log" '^step ' iterations) against $(its "$out/mandel_block/mandel.log" '^step ' iterations)"
+  else ko "Biot (Mandel), MGR vs block preconditioner: $r"; fi
+fi
+
+# contact: the fault in a block (tests/decks/contact_block.nml), stick and slip
+for pc in block mgr; do
+  sed -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10, precon = '$pc'#" -e "s#dir = 'out'#dir = '$out'#" \
+      -e "s#prefix = 'contact_block'#prefix = 'contact_$pc'#" tests/decks/contact_block.nml > "$out/contact_$pc.nml"
+done
+if run "$out/contact_block.nml" 2 && run "$out/contact_mgr.nml" 2; then
+  grep -q "linear solver: FGMRES with hypre's MGR on the whole system" "$out/contact_mgr.log" \
+    && ok "contact with MGR: the log names it" || ko "contact with MGR: the log does not name it"
+  if r=$($PY tests/verification/check_contact.py same "$out/contact_mgr" "$out/contact_block" 1e-6 2>&1); then
+    ok "contact, MGR vs block preconditioner, jumps, tractions, statuses (1e-6); its $(its "$out/contact_mgr.log" '^  newton' 'linear its') against $(its "$out/contact_block.log" '^  newton' 'linear its')"
+  else ko "contact, MGR vs block preconditioner: $(echo "$r" | tr '\n' ' ')"; fi
+fi
+
+# fracture flow: stick, slip and open (tests/decks/flow_states.nml), MGR vs MUMPS
+sed -e "s#dir = 'out'#dir = '$out'#" -e "s#prefix = '[a-z_]*'#prefix = 'flow_mumps'#" tests/decks/flow_states.nml > "$out/flow_mumps.nml"
+sed -e "s#dir = 'out'#dir = '$out'#" -e "s#prefix = '[a-z_]*'#prefix = 'flow_mgr'#" \
+    -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10, precon = 'mgr'#" tests/decks/flow_states.nml > "$out/flow_mgr.nml"
+if run "$out/flow_mumps.nml" 2 && run "$out/flow_mgr.nml" 2; then
+  grep -q "then p by Jacobi, u by BoomerAMG" "$out/flow_mgr.log" \
+    && ok "fracture flow with MGR: the log names it" || ko "fracture flow with MGR: the log does not name it"
+  if r=$($PY tests/verification/check_flow.py same "$out/flow_mgr" "$out/flow_mumps" 1e-6 2>&1); then
+    ok "fracture flow, MGR vs MUMPS (1e-6): $r; its $(its "$out/flow_mgr.log" '^  newton' 'linear its')"
+  else ko "fracture flow, MGR vs MUMPS: $r"; fi
+fi
+echo "suite peers: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
