@@ -116,6 +116,7 @@ bench: deps
 	@bash bench/run_bench_fsai.sh
 	@bash bench/run_bench_contact.sh
 	@bash bench/run_bench_flow.sh
+	@bash bench/run_bench_peers.sh
 
 clean:
 	rm -rf build bin

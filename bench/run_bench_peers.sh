@@ -6,7 +6,9 @@
 # solves the exported files with PETSc's nested Schur fieldsplit (selfp,
 # BoomerAMG with our settings) on 1 rank and on the run's ranks; MUMPS on the
 # same deck gives the direct reference (factorization + solve of that system,
-# peak memory of the run).
+# peak memory of the run), and hypre's MGR inside geoblock (&solver precon =
+# 'mgr', GEOS's strategies, mgr_precon.f90) runs on the same distributed
+# matrices in the same way as ours.
 # Cases:
 #   mandel N G : Mandel (input/mandel.nml, quarter model, N x N x N/10; 80 is
 #                the seed's size), one step of dt = G (the seed's gamma)
@@ -17,20 +19,21 @@
 #                (tests/decks/flow_nine.nml; 17: 4 m cells), the first slipping
 #                step's second Newton iteration (step 4), pressure_block ORDER
 #                ('eliminated': blocks t, p, u; 'schur': t, u, p)
-# Usage: bench/run_bench_peers.sh [ranks] [cases, each "kind:N:arg"] [mumps: yes|no]
+# Usage: bench/run_bench_peers.sh [ranks] [cases, each "kind:N:arg" or "kind:N:arg:mumps"] [mumps: all|marked|no]
+# (MUMPS runs on every case with 'all', on the cases marked ':mumps' with 'marked')
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 np=${1:-2}
-cases=${2:-"mandel:40:0.15 mandel:40:1 mandel:40:100 mandel:80:0.15 mandel:80:1 mandel:80:100 contact:40:stick contact:40:slip nine:17:eliminated nine:17:schur"}
-with_mumps=${3:-yes}
+cases=${2:-"mandel:40:1:mumps mandel:80:0.15 mandel:80:1:mumps mandel:80:100 contact:40:stick:mumps contact:40:slip:mumps nine:17:eliminated:mumps nine:17:schur"}
+with_mumps=${3:-marked}
 PY=${PYTHON:-/usr/bin/python3}
 out=build/bench/peers
 mkdir -p "$out"
 cp tests/decks/nine_fractures_rate.tab "$out/"
 table=build/bench/peers.md
-echo "| case | unknowns (blocks) | geoblock: its / set-up / solve / total [s] | PETSc fieldsplit, 1 rank: its / total [s] / peak MB | PETSc fieldsplit, $np ranks: its / total [s] | geoblock / PETSc ($np ranks) | MUMPS ($np ranks): total [s] / peak MB of a rank |" > "$table"
-echo "|---|---|---|---|---|---|---|" >> "$table"
+echo "| case | unknowns (blocks) | geoblock: its / set-up / solve / total [s] | PETSc fieldsplit, 1 rank: its / total [s] / peak MB | PETSc fieldsplit, $np ranks: its / total [s] | geoblock / PETSc ($np ranks) | hypre MGR in geoblock: its / set-up / solve / total [s] | geoblock / MGR | MUMPS ($np ranks): total [s] / peak MB of a rank |" > "$table"
+echo "|---|---|---|---|---|---|---|---|---|" >> "$table"
 
 deck() {  # kind n arg solver name -> $out/name.nml; prints the export's step and Newton iteration
   local kind=$1 n=$2 arg=$3 solver=$4 name=$5
@@ -62,7 +65,7 @@ deck() {  # kind n arg solver name -> $out/name.nml; prints the export's step an
 }
 
 for c in $cases; do
-  IFS=: read -r kind n arg <<< "$c"
+  IFS=: read -r kind n arg mark <<< "$c"
   name=${kind}_${n}_${arg}
   restart=100
   [ "$kind" = nine ] && restart=300
@@ -71,7 +74,7 @@ for c in $cases; do
   mpirun -np "$np" bin/geoblock "$out/$name.nml" > "$out/$name.stdout" 2>&1 < /dev/null
   line=$(grep -m1 '(exported): iterations' "$out/$name.log")
   if [ -z "$line" ]; then
-    echo "| $name | | run failed or exported nothing, see $out/$name.stdout | | | | |" >> "$table"
+    echo "| $name | | run failed or exported nothing, see $out/$name.stdout | | | | | | |" >> "$table"
     continue
   fi
   its=$(sed -E 's/.*iterations ([0-9]+),.*/\1/' <<< "$line")
@@ -91,8 +94,22 @@ for c in $cases; do
   grep -q "NOT converged" <<< "$p1" && p1c="not converged: $p1c"
   grep -q "NOT converged" <<< "$pn" && pnc="not converged: $pnc"
   ratio=$(get 'ratio ours \/ petsc' "$pn")
+  # hypre's MGR on the same deck and system
+  deck "$kind" "$n" "$arg" "method = 'fgmres', rtol = 1.0e-8, restart = $restart, precon = 'mgr'" "${name}_mgr"
+  mpirun -np "$np" bin/geoblock "$out/${name}_mgr.nml" > "$out/${name}_mgr.stdout" 2>&1 < /dev/null
+  gl=$(grep -m1 '(exported): iterations' "$out/${name}_mgr.log")
+  g="failed, see $out/${name}_mgr.stdout"; gr="-"
+  if [ -n "$gl" ]; then
+    gi=$(sed -E 's/.*iterations ([0-9]+),.*/\1/' <<< "$gl")
+    gs=$(sed -E 's/.*set-up ([0-9.]+) s.*/\1/' <<< "$gl")
+    go=$(sed -E 's/.*solve ([0-9.]+) s.*/\1/' <<< "$gl")
+    gt=$(awk -v a="$gs" -v b="$go" 'BEGIN {printf "%.3f", a + b}')
+    g="$gi / $gs / $go / $gt"
+    gr=$(awk -v a="$tot" -v b="$gt" 'BEGIN {printf "%.2f", a / b}')
+    echo "   mgr: $gl"
+  fi
   m="not run"
-  if [ "$with_mumps" = yes ]; then
+  if [ "$with_mumps" = all ] || { [ "$with_mumps" = marked ] && [ "$mark" = mumps ]; }; then
     deck "$kind" "$n" "$arg" "method = 'mumps'" "${name}_mumps"
     /usr/bin/time -v mpirun -np "$np" bin/geoblock "$out/${name}_mumps.nml" > "$out/${name}_mumps.stdout" 2>&1 < /dev/null
     ml=$(grep -m1 '(exported): iterations' "$out/${name}_mumps.log")
@@ -104,6 +121,6 @@ for c in $cases; do
       m="failed, see $out/${name}_mumps.stdout"
     fi
   fi
-  echo "| $name | $rows ($blocks) | $its / $su / $so / $tot | $p1c | $pnc | ${ratio:--} | $m |" | tee -a "$table"
+  echo "| $name | $rows ($blocks) | $its / $su / $so / $tot | $p1c | $pnc | ${ratio:--} | $g | $gr | $m |" | tee -a "$table"
 done
 echo "table: $table"
