@@ -1,11 +1,13 @@
 !> The memory of the machine, for refusing a run that cannot fit before it
-!> allocates: MemTotal of /proc/meminfo (Linux), in bytes.
+!> allocates: MemTotal of /proc/meminfo (Linux), in bytes; and the peak
+!> resident memory of this process (VmHWM of /proc/self/status), for the
+!> timing summary.
 module machine_memory
   use kinds, only: gp
   implicit none
   private
 
-  public :: total_memory_bytes
+  public :: total_memory_bytes, peak_resident_bytes
 
 contains
 
@@ -29,4 +31,25 @@ contains
     end do
     close(unit)
   end function total_memory_bytes
+
+  !> VmHWM of /proc/self/status, the peak resident set of this process
+  !> [bytes]; -1 when it cannot be read.
+  function peak_resident_bytes() result(bytes)
+    integer(gp) :: bytes
+    integer :: unit, ios
+    integer(gp) :: kb
+    character(len=256) :: line
+    bytes = -1
+    open(newunit=unit, file='/proc/self/status', status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    do
+      read(unit, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (index(line, 'VmHWM:') /= 1) cycle
+      read(line(7:), *, iostat=ios) kb           ! "VmHWM:     123456 kB"
+      if (ios == 0 .and. kb >= 0) bytes = kb * 1024
+      exit
+    end do
+    close(unit)
+  end function peak_resident_bytes
 end module machine_memory

@@ -1,8 +1,9 @@
 !> Named wall-clock accumulators for the timing summary.
 module timer_set
-  use kinds, only: rp, name_len
+  use kinds, only: rp, gp, name_len
   use parallel_comm, only: parallel_comm_t, wall_time
   use logger, only: logger_t
+  use machine_memory, only: peak_resident_bytes
   implicit none
   private
 
@@ -89,11 +90,18 @@ contains
     type(parallel_comm_t), intent(in) :: comm
     type(logger_t), intent(inout) :: log
     integer :: i
+    integer(gp) :: peak
     character(len=160) :: line
     call log%info('timing summary (seconds, maximum over ranks)')
     do i = 1, self%n
       write(line, '(2x,a32,f12.3,i8,a)') self%names(i), comm%max(self%total(i)), self%calls(i), ' calls'
       call log%info(line)
     end do
+    ! the peak resident memory: of the largest rank and over all ranks
+    peak = peak_resident_bytes()
+    if (comm%any_true(peak < 0)) return
+    write(line, '(a,i0,a,i0,a)') 'peak resident memory: ', comm%max(peak) / 2_gp**20, ' MB on the largest rank, ', &
+      comm%sum(peak) / 2_gp**20, ' MB over all ranks'
+    call log%info(line)
   end subroutine report
 end module timer_set
