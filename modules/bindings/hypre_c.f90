@@ -55,6 +55,7 @@ module hypre_c
   public :: HYPRE_FSAISetKapTolerance, HYPRE_FSAISetOmega, HYPRE_FSAISetMaxIterations
   public :: HYPRE_FSAISetEigMaxIters, HYPRE_FSAISetTolerance, HYPRE_FSAISetPrintLevel
   public :: HYPRE_FSAISetZeroGuess
+  public :: HYPRE_BoomerAMGSetInterpVectors, HYPRE_BoomerAMGSetInterpVecVariant, HYPRE_BoomerAMGSetInterpVecQMax
   public :: HYPRE_MGRCreate, HYPRE_MGRDestroy, HYPRE_MGRSetup, HYPRE_MGRSolve
   public :: HYPRE_MGRSetCpointsByPointMarkerArray, HYPRE_MGRSetNonCpointsToFpoints
   public :: HYPRE_MGRSetMaxCoarseLevels, HYPRE_MGRSetLevelFRelaxType, HYPRE_MGRSetCoarseGridMethod
@@ -688,6 +689,38 @@ module hypre_c
       integer(hypre_int) :: ierr
     end function HYPRE_FSAISetZeroGuess
 
+
+    ! ---- BoomerAMG interpolation vectors (rigid-body modes) -----------------
+    ! hypre keeps the array of vectors by pointer; the caller destroys the
+    ! vectors after the solver.
+
+    !> HYPRE_Int HYPRE_BoomerAMGSetInterpVectors(HYPRE_Solver, HYPRE_Int num_vectors,
+    !>   HYPRE_ParVector *interp_vectors)
+    function HYPRE_BoomerAMGSetInterpVectors(solver, n, vectors) bind(C, name='HYPRE_BoomerAMGSetInterpVectors') &
+        result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: n
+      type(c_ptr), value :: vectors
+      integer(hypre_int) :: ierr
+    end function HYPRE_BoomerAMGSetInterpVectors
+
+    !> HYPRE_Int HYPRE_BoomerAMGSetInterpVecVariant(HYPRE_Solver, HYPRE_Int var)
+    function HYPRE_BoomerAMGSetInterpVecVariant(solver, v) bind(C, name='HYPRE_BoomerAMGSetInterpVecVariant') &
+        result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: v
+      integer(hypre_int) :: ierr
+    end function HYPRE_BoomerAMGSetInterpVecVariant
+
+    !> HYPRE_Int HYPRE_BoomerAMGSetInterpVecQMax(HYPRE_Solver, HYPRE_Int q_max)
+    function HYPRE_BoomerAMGSetInterpVecQMax(solver, v) bind(C, name='HYPRE_BoomerAMGSetInterpVecQMax') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: v
+      integer(hypre_int) :: ierr
+    end function HYPRE_BoomerAMGSetInterpVecQMax
 
     ! ---- MGR (HYPRE_parcsr_ls.h) -------------------------------------------
     ! The level arrays are copied by hypre at the call; the point marker

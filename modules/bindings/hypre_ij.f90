@@ -52,6 +52,7 @@ module hypre_ij
     procedure :: zero_x
     procedure :: get_x
     procedure :: matvec
+    procedure :: new_vector
     procedure :: free
   end type hypre_ij_t
 
@@ -154,6 +155,21 @@ contains
     ierr = HYPRE_IJVectorAssemble(ij)
     ierr = HYPRE_IJVectorGetObject(ij, par)
   end subroutine create_vector
+
+  !> A new IJ vector over the matrix's rows holding the owned values v; the
+  !> caller destroys ij (HYPRE_IJVectorDestroy). Collective.
+  subroutine new_vector(self, v, ij, par)
+    class(hypre_ij_t), intent(in) :: self
+    real(rp), intent(in) :: v(:)
+    type(c_ptr), intent(out) :: ij, par
+    integer(hypre_int) :: ierr
+    ierr = HYPRE_IJVectorCreate(self%comm%c_handle(), self%ilower, self%iupper, ij)
+    ierr = HYPRE_IJVectorSetObjectType(ij, HYPRE_PARCSR)
+    ierr = HYPRE_IJVectorInitialize(ij)
+    if (self%n_rows > 0) ierr = HYPRE_IJVectorSetValues(ij, int(self%n_rows, hypre_int), self%rows, v)
+    ierr = HYPRE_IJVectorAssemble(ij)
+    ierr = HYPRE_IJVectorGetObject(ij, par)
+  end subroutine new_vector
 
   !> True once init() has built the hypre objects.
   logical function is_ready(self)

@@ -42,6 +42,16 @@
 !>                               complexity 1.45 instead of 1.33 and ~30% more
 !>                               solve time, 0.25 took 25, 29, 31.
 !>   l1-gs, 1 sweep            : hypre's default smoother, robust in parallel.
+!>   no interpolation vectors  : the six rigid-body modes in the interpolation
+!>                               (interp_vec_variant 1 or 2, hypre's GM, with
+!>                               nodal coarsening) did not beat the unknown
+!>                               approach here (2 ranks, 2026-11-26): CG on
+!>                               the 40^3 cube 22 iterations against 24 (GM1,
+!>                               GM2; nodal = 4 alone: 32); the reduced
+!>                               nine-fracture case's u-t-p systems 27/16/65/36
+!>                               against 33/19/72/42 (GM2) and 32/19/72/41
+!>                               (GM1); the contact block at n = 40, 34-38
+!>                               against 35-43.
 module amg_params
   use kinds, only: rp, name_len
   use error_status, only: error_status_t
@@ -73,6 +83,10 @@ module amg_params
     integer :: num_sweeps = 1                         !< smoothing sweeps down and up
     real(rp) :: relax_wt = 1.0_rp                     !< weight of Jacobi / SOR smoothers
     integer :: print_level = 0                        !< hypre's own output: 0 none .. 3
+    !> interpolation of the near-null space the caller gives (rigid-body
+    !> modes), hypre's variant: 0 none, 1 and 2 GM, 3 LN; needs nodal > 0
+    integer :: interp_vec_variant = 0
+    integer :: interp_vec_qmax = 4                    !< entries per row of the added columns (0: all)
   contains
     procedure :: validate
     procedure :: to_lines
@@ -105,6 +119,13 @@ contains
       call bad_int('nodal', self%nodal, 'one of 0 (unknown approach), 1, 2, 3, 4, 6 (nodal norms)')
     else if (self%nodal > 0 .and. self%num_functions == 1) then
       call bad_int('nodal', self%nodal, '0 when num_functions = 1 (nodal coarsening needs systems)')
+    else if (self%interp_vec_variant < 0 .or. self%interp_vec_variant > 3) then
+      call bad_int('interp_vec_variant', self%interp_vec_variant, 'one of 0 (none), 1, 2 (GM), 3 (LN)')
+    else if (self%interp_vec_variant > 0 .and. self%nodal == 0) then
+      call bad_int('interp_vec_variant', self%interp_vec_variant, '0 when nodal = 0 (the rigid-body modes need '// &
+                   'nodal coarsening)')
+    else if (self%interp_vec_qmax < 0 .or. self%interp_vec_qmax > 100) then
+      call bad_int('interp_vec_qmax', self%interp_vec_qmax, 'an integer in 0..100 (0: no limit)')
     else if (self%coarsen_id() < 0) then
       call bad_name('coarsen_type', self%coarsen_type, coarsen_names)
     else if (self%interp_id() < 0) then

@@ -11,7 +11,7 @@
 !> not depend on how rows are split among ranks.
 module boomeramg_precon
   use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_f_pointer, &
-    c_size_t, c_sizeof
+    c_size_t, c_sizeof, c_loc
   use kinds, only: rp, ip, gp, hypre_int, name_len, msg_len
   use parallel_comm, only: parallel_comm_t, wall_time
   use error_status, only: error_status_t
@@ -30,7 +30,8 @@ module boomeramg_precon
     HYPRE_BoomerAMGSetMaxLevels, HYPRE_BoomerAMGSetMaxCoarseSize, &
     HYPRE_BoomerAMGSetRelaxType, HYPRE_BoomerAMGSetCycleRelaxType, &
     HYPRE_BoomerAMGSetNumSweeps, HYPRE_BoomerAMGSetRelaxWt, &
-    HYPRE_BoomerAMGSetTruncFactor, HYPRE_BoomerAMGSetPMaxElmts
+    HYPRE_BoomerAMGSetTruncFactor, HYPRE_BoomerAMGSetPMaxElmts, HYPRE_BoomerAMGSetInterpVectors, &
+    HYPRE_BoomerAMGSetInterpVecVariant, HYPRE_BoomerAMGSetInterpVecQMax, HYPRE_IJVectorDestroy
   implicit none
   private
 
@@ -44,6 +45,9 @@ module boomeramg_precon
     type(hypre_ij_t) :: ij                         !< hypre copy of A, vectors b and x
     type(c_ptr) :: solver = c_null_ptr             !< HYPRE_Solver (owned here)
     integer(hypre_int), allocatable :: dof_func(:) !< 0-based function id per owned row (systems)
+    real(rp), allocatable :: modes(:,:)            !< (owned rows, k) near-null space for the interpolation
+    type(c_ptr), allocatable :: mode_ij(:)         !< their IJ vectors (owned here)
+    type(c_ptr), allocatable :: mode_par(:)        !< their ParVectors (hypre keeps this array)
     integer :: apply_errors = 0                    !< applications in which hypre reported an error
     ! hierarchy sizes, known after measure_hierarchy() (same on every rank)
     integer :: num_levels = 0
@@ -68,12 +72,13 @@ contains
   !> needs whole nodes on every rank, interleaved. Collective; times itself
   !> into setup_time (seconds). status reports, on every rank alike, bad
   !> settings, a bad dof_func, or a failure of hypre.
-  subroutine setup(self, a, params, status, dof_func)
-    class(boomeramg_precon_t), intent(inout) :: self
+  subroutine setup(self, a, params, status, dof_func, modes)
+    class(boomeramg_precon_t), intent(inout), target :: self
     type(csr_matrix_t), intent(in) :: a
     type(amg_params_t), intent(in) :: params
     type(error_status_t), intent(inout) :: status
     integer, intent(in), optional :: dof_func(:)
+    real(rp), intent(in), optional :: modes(:,:)   !< (owned rows, k): used with params%interp_vec_variant > 0
     real(rp) :: t0
 
     t0 = wall_time()
@@ -88,6 +93,7 @@ contains
     self%params = params
     call make_dof_func(self, a, status, dof_func)
     if (.not. status%ok()) return
+    if (present(modes) .and. params%interp_vec_variant > 0) self%modes = modes
     call self%ij%init(a, status)
     if (.not. status%ok()) return
     call build_hierarchy(self, status)
@@ -98,7 +104,7 @@ contains
   !> rebuild the hierarchy with the same settings. Collective; setup_time is
   !> the time of this update.
   subroutine update(self, a, status)
-    class(boomeramg_precon_t), intent(inout) :: self
+    class(boomeramg_precon_t), intent(inout), target :: self
     type(csr_matrix_t), intent(in) :: a
     type(error_status_t), intent(inout) :: status
     real(rp) :: t0
@@ -166,22 +172,34 @@ contains
   !> (Re)create the hypre solver with self%params and build the hierarchy of
   !> the matrix in self%ij.
   subroutine build_hierarchy(self, status)
-    type(boomeramg_precon_t), intent(inout) :: self
+    type(boomeramg_precon_t), intent(inout), target :: self
     type(error_status_t), intent(inout) :: status
     type(amg_params_t) :: p
     integer(hypre_int) :: ierr
     integer(hypre_int), pointer :: f(:)
     type(c_ptr) :: fp
-    integer :: n
+    integer :: n, i
     logical :: no_memory
 
     p = self%params
     no_memory = .false.
     if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
     self%solver = c_null_ptr
+    call free_modes(self)
     ierr = HYPRE_ClearAllErrors()
     ierr = HYPRE_BoomerAMGCreate(self%solver)
     call amg_configure(self%solver, p)
+    if (allocated(self%modes)) then
+      ! the near-null space (rigid-body modes) in the interpolation (GM)
+      n = size(self%modes, 2)
+      allocate(self%mode_ij(n), self%mode_par(n))
+      do i = 1, n
+        call self%ij%new_vector(self%modes(:, i), self%mode_ij(i), self%mode_par(i))
+      end do
+      ierr = HYPRE_BoomerAMGSetInterpVectors(self%solver, int(n, hypre_int), c_loc(self%mode_par))
+      ierr = HYPRE_BoomerAMGSetInterpVecVariant(self%solver, int(p%interp_vec_variant, hypre_int))
+      ierr = HYPRE_BoomerAMGSetInterpVecQMax(self%solver, int(p%interp_vec_qmax, hypre_int))
+    end if
     if (p%num_functions > 1) then
       ierr = HYPRE_BoomerAMGSetNumFunctions(self%solver, int(p%num_functions, hypre_int))
       ierr = HYPRE_BoomerAMGSetNodal(self%solver, int(p%nodal, hypre_int))
@@ -242,6 +260,18 @@ contains
     ierr = HYPRE_BoomerAMGSetNumSweeps(solver, int(p%num_sweeps, hypre_int))
     ierr = HYPRE_BoomerAMGSetRelaxWt(solver, p%relax_wt)
   end subroutine amg_configure
+
+  !> Destroy the IJ vectors of the near-null space (after the solver).
+  subroutine free_modes(self)
+    type(boomeramg_precon_t), intent(inout) :: self
+    integer(hypre_int) :: ierr
+    integer :: i
+    if (.not. allocated(self%mode_ij)) return
+    do i = 1, size(self%mode_ij)
+      if (c_associated(self%mode_ij(i))) ierr = HYPRE_IJVectorDestroy(self%mode_ij(i))
+    end do
+    deallocate(self%mode_ij, self%mode_par)
+  end subroutine free_modes
 
   !> Measure the hierarchy of the last set-up: num_levels, level_rows and
   !> grid_complexity, from the last level that holds each fine row. hypre
@@ -324,6 +354,8 @@ contains
     integer(hypre_int) :: ierr
     if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
     self%solver = c_null_ptr
+    call free_modes(self)
+    if (allocated(self%modes)) deallocate(self%modes)
     call self%ij%free()
     if (allocated(self%dof_func)) deallocate(self%dof_func)
     if (allocated(self%level_rows)) deallocate(self%level_rows)

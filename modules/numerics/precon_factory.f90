@@ -30,6 +30,9 @@ module precon_factory
   type :: precon_params_t
     type(amg_params_t) :: amg                !< BoomerAMG
     type(fsai_params_t) :: fsai              !< aFSAI and hypre's FSAI (steps, step size, tolerance)
+    !> BoomerAMG with amg%interp_vec_variant > 0: the near-null space of
+    !> the matrix, (owned rows, k) (the rigid-body modes of elasticity)
+    real(rp), allocatable :: modes(:,:)
   end type precon_params_t
 
 contains
@@ -77,7 +80,11 @@ contains
     t0 = wall_time()
     select type (p)
     type is (boomeramg_precon_t)
-      call p%setup(a, params%amg, status)
+      if (allocated(params%modes)) then
+        call p%setup(a, params%amg, status, modes=params%modes)
+      else
+        call p%setup(a, params%amg, status)
+      end if
     type is (jacobi_precon_t)
       call p%setup(a, status)
     type is (afsai_precon_t)

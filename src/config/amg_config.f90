@@ -26,7 +26,7 @@ contains
     type(amg_params_t), intent(inout) :: params
     type(error_status_t), intent(inout) :: status
     integer :: num_functions, nodal, p_max_elmts, agg_num_levels, agg_p_max_elmts, num_paths, &
-               max_levels, max_coarse_size, num_sweeps, print_level, ios
+               max_levels, max_coarse_size, num_sweeps, print_level, interp_vec_variant, interp_vec_qmax, ios
     character(len=name_len) :: coarsen_type, interp_type, agg_interp_type, relax_type
     real(rp) :: trunc_factor, strong_threshold, max_row_sum, relax_wt
     type(error_status_t) :: vstat
@@ -34,7 +34,8 @@ contains
     character(len=line_len), allocatable :: b(:)
     namelist /amg/ num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor, &
                    agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths, strong_threshold, &
-                   max_row_sum, max_levels, max_coarse_size, relax_type, num_sweeps, relax_wt, print_level
+                   max_row_sum, max_levels, max_coarse_size, relax_type, num_sweeps, relax_wt, print_level, &
+                   interp_vec_variant, interp_vec_qmax
 
     num_functions = params%num_functions; nodal = params%nodal; coarsen_type = params%coarsen_type
     interp_type = params%interp_type; p_max_elmts = params%p_max_elmts; trunc_factor = params%trunc_factor
@@ -43,6 +44,7 @@ contains
     strong_threshold = params%strong_threshold; max_row_sum = params%max_row_sum
     max_levels = params%max_levels; max_coarse_size = params%max_coarse_size; relax_type = params%relax_type
     num_sweeps = params%num_sweeps; relax_wt = params%relax_wt; print_level = params%print_level
+    interp_vec_variant = params%interp_vec_variant; interp_vec_qmax = params%interp_vec_qmax
     if (d%count('amg') > 0) then
       call d%block('amg', 1, b)
       read(b, nml=amg, iostat=ios, iomsg=msg)
@@ -56,7 +58,8 @@ contains
       agg_num_levels=agg_num_levels, agg_interp_type=agg_interp_type, agg_p_max_elmts=agg_p_max_elmts, &
       num_paths=num_paths, strong_threshold=strong_threshold, max_row_sum=max_row_sum, &
       max_levels=max_levels, max_coarse_size=max_coarse_size, relax_type=relax_type, &
-      num_sweeps=num_sweeps, relax_wt=relax_wt, print_level=print_level)
+      num_sweeps=num_sweeps, relax_wt=relax_wt, print_level=print_level, &
+      interp_vec_variant=interp_vec_variant, interp_vec_qmax=interp_vec_qmax)
     call params%validate(vstat)
     if (.not. vstat%ok()) then
       write(msg, '(a,i0,a)') "deck '"//trim(d%path)//"', group &amg (line ", d%first_line('amg', 1), "): "// &

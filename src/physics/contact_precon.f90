@@ -204,6 +204,8 @@ contains
     call to_csr(sstar, phys%mech%u%map, self%s)
     self%nnz_schur = self%s%global_nnz()
     params%amg = amg
+    ! S* has K's near-null space: the rigid-body modes, where asked (&amg)
+    if (amg%interp_vec_variant > 0) params%modes = phys%mech%rigid_body_modes(mesh)
     call make_and_setup('boomeramg', p, self%s, params, status)
     if (.not. status%ok()) return
     if (ccfg%schur_solve == 'inner_cg') then

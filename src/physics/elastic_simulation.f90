@@ -148,6 +148,7 @@ contains
       t0 = wall_time()
       params%amg = self%amg
       params%fsai = self%fsai%precon
+      if (self%amg%interp_vec_variant > 0) params%modes = self%mech%rigid_body_modes(self%mesh)
       call self%mesh%node_keys(3, keys)
       call setup_precon(self%pc, self%mech%k, params, status, symmetric=.true., keys=keys)
       sys%setup_time = wall_time() - t0

@@ -49,6 +49,7 @@ module elasticity
     procedure :: set_time
     procedure :: prescribed_value
     procedure :: check_anchored
+    procedure :: rigid_body_modes
     procedure :: free
   end type elasticity_t
 
@@ -380,6 +381,46 @@ contains
     end do
     call check_rigid_modes(mesh, pieces, fixed, status, joins)
   end subroutine check_anchored
+
+  !> The six rigid-body motions on the owned displacement dofs, (owned dofs,
+  !> 6): translations in x, y, z, rotations about x, y, z around the centre
+  !> of the mesh's bounding box, scaled by its size; zero on the prescribed
+  !> dofs (the near-null space of the constrained K, for BoomerAMG's
+  !> interpolation). Collective (the bounding box).
+  function rigid_body_modes(self, mesh) result(m)
+    class(elasticity_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), allocatable :: m(:,:)
+    real(rp) :: lo(3), hi(3), x0(3), size_, y(3)
+    integer(ip) :: nd, c, i
+    type(parallel_comm_t) :: comm
+    comm = mesh%comm
+    do c = 1, 3
+      lo(c) = -comm%max(-minval(mesh%coords(c, :)))
+      hi(c) = comm%max(maxval(mesh%coords(c, :)))
+    end do
+    x0 = (lo + hi) / 2.0_rp
+    size_ = max(maxval(hi - lo), tiny(1.0_rp))
+    allocate(m(self%u%n_owned(), 6))
+    m = 0.0_rp
+    do nd = 1, mesh%node_map%n_owned
+      y = (mesh%coords(:, nd) - x0) / size_
+      do c = 1, 3
+        i = self%u%dof(nd, c)
+        m(i, c) = 1.0_rp
+      end do
+      ! rotations: w x y for w = e_x, e_y, e_z
+      m(self%u%dof(nd, 2_ip), 4) = -y(3)
+      m(self%u%dof(nd, 3_ip), 4) = y(2)
+      m(self%u%dof(nd, 1_ip), 5) = y(3)
+      m(self%u%dof(nd, 3_ip), 5) = -y(1)
+      m(self%u%dof(nd, 1_ip), 6) = -y(2)
+      m(self%u%dof(nd, 2_ip), 6) = y(1)
+    end do
+    do i = 1, self%u%n_owned()
+      if (self%fixed(i)) m(i, :) = 0.0_rp
+    end do
+  end function rigid_body_modes
 
   subroutine free(self)
     class(elasticity_t), intent(inout) :: self
