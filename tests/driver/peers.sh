@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# The peers of make bench on tiny systems (issue 15): hypre's MGR inside
+# The peers of make bench on tiny systems, and the AMG options of the
+# performance work (issue 15): hypre's MGR inside
 # geoblock (&solver precon = 'mgr', mgr_precon.f90) on each block physics
 # gives the same solution as our block preconditioners or MUMPS, and the
 # log names it; an elastic deck refuses it. (The PETSc fieldsplit script is
-# checked on an exported system in driver_outputs.sh.)
+# checked on an exported system in driver_outputs.sh.) BoomerAMG with the
+# rigid-body modes in its interpolation (&amg interp_vec_variant) gives the
+# same displacement as without.
 set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -58,6 +61,18 @@ if run "$out/flow_mumps.nml" 2 && run "$out/flow_mgr.nml" 2; then
   if r=$($PY tests/verification/check_flow.py same "$out/flow_mgr" "$out/flow_mumps" 1e-6 2>&1); then
     ok "fracture flow, MGR vs MUMPS (1e-6): $r; its $(its "$out/flow_mgr.log" '^  newton' 'linear its')"
   else ko "fracture flow, MGR vs MUMPS: $r"; fi
+fi
+# BoomerAMG with the six rigid-body modes (GM, nodal coarsening) on a cube
+for v in 0 2; do
+  mkdir -p "$out/cube_$v"
+  sed -e "s/nx = 16, ny = 16, nz = 16/nx = 12, ny = 12, nz = 12/" -e "s#dir = 'out'#dir = '$out/cube_$v'#" \
+      -e "s#prefix = '[a-z_]*'#prefix = 'cube'#" input/cube.nml > "$out/cube_$v.nml"
+done
+printf "&amg\n  nodal = 4, interp_vec_variant = 2\n/\n" >> "$out/cube_2.nml"
+if run "$out/cube_0.nml" 2 && run "$out/cube_2.nml" 2; then
+  if r=$($PY tests/invariance/compare_runs.py "$out/cube_0" "$out/cube_2" cube 1e-6 displacement 2>&1); then
+    ok "elasticity, BoomerAMG with the rigid-body modes (GM 2, nodal 4) vs without, displacement (1e-6); its $(its "$out/cube_2/cube.log" '^step ' iterations) against $(its "$out/cube_0/cube.log" '^step ' iterations)"
+  else ko "elasticity with the rigid-body modes: $r"; fi
 fi
 echo "suite peers: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
