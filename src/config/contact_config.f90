@@ -22,6 +22,12 @@
 !>                  the largest traction, gaps against the largest jump), > 0 [1e-6]
 !>   max_cuts       halvings of a load step whose Newton loop does not
 !>                  converge before the run stops, >= 0                    [4]
+!>   reuse          FGMRES: keep the preconditioner's Schur part (S* and its
+!>                  BoomerAMG, S_p) while every element sticks, as when it was
+!>                  built (with the fluid: at the same step size): the
+!>                  Jacobian is then the same, so the iterations are too and
+!>                  the set-up is saved; rebuilt at every Newton iteration
+!>                  otherwise                                         [.true.]
 module contact_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -44,6 +50,7 @@ module contact_config
     real(rp) :: newton_tol = 1.0e-6_rp
     real(rp) :: status_tol = 1.0e-6_rp
     integer :: max_cuts = 4
+    logical :: reuse = .true.
   contains
     procedure :: read => read_contact_config
     procedure :: describe => describe_contact_config
@@ -60,14 +67,15 @@ contains
     character(len=name_len) :: stabilization, block, schur_precon, schur_solve
     real(rp) :: aug_scale, newton_tol, status_tol
     integer :: max_newton, max_cuts, ios
+    logical :: reuse
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     namelist /contact/ stabilization, block, schur_precon, aug_scale, schur_solve, max_newton, newton_tol, &
-                       status_tol, max_cuts
+                       status_tol, max_cuts, reuse
 
     stabilization = self%stabilization; block = self%block; schur_precon = self%schur_precon
     aug_scale = self%aug_scale; schur_solve = self%schur_solve; max_newton = self%max_newton; newton_tol = self%newton_tol
-    status_tol = self%status_tol; max_cuts = self%max_cuts
+    status_tol = self%status_tol; max_cuts = self%max_cuts; reuse = self%reuse
     if (d%count('contact') > 0) then
       call d%block('contact', 1, b)
       read(b, nml=contact, iostat=ios, iomsg=msg)
@@ -97,7 +105,7 @@ contains
     if (.not. status%ok()) return
     self%stabilization = stabilization; self%block = block; self%schur_precon = schur_precon
     self%aug_scale = aug_scale; self%schur_solve = schur_solve; self%max_newton = max_newton; self%newton_tol = newton_tol
-    self%status_tol = status_tol; self%max_cuts = max_cuts
+    self%status_tol = status_tol; self%max_cuts = max_cuts; self%reuse = reuse
   end subroutine read_contact_config
 
   !> The resolved &contact group.
@@ -114,5 +122,6 @@ contains
     call g%add('newton_tol', self%newton_tol, '-', 'relative size of the last Newton update')
     call g%add('status_tol', self%status_tol, '-', 'relative tolerance of the status checks')
     call g%add('max_cuts', self%max_cuts, '-', 'halvings of a load step that does not converge')
+    call g%add('reuse', self%reuse, '-', "FGMRES: keep the Schur part while no status changes")
   end subroutine describe_contact_config
 end module contact_config

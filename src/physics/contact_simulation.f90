@@ -730,6 +730,8 @@ contains
     type(logger_t), intent(inout) :: log
     if (len_trim(self%fractures_xdmf) > 0) &
       call log%info('fault fields: '//trim(self%fractures_xdmf)//' (open it in ParaView)')
+    if (self%cpc%reused > 0) call log%info('contact preconditioner: its Schur part kept at '//itoa(self%cpc%reused)// &
+      ' Newton iteration(s) with every element sticking (&contact reuse)')
   end subroutine finish
 
   subroutine free(self)
