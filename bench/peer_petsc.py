@@ -16,11 +16,13 @@ against the others, with the others' Schur complement approximated by
 PETSc's 'selfp' (A11 - A10 diag(A00)^-1 A01, assembled), and so on down the
 blocks; full factorization at every level. Each single block is solved by
 one BoomerAMG V-cycle with our own default settings (HMIS, ext+i with at
-most 6 entries, one aggressive level, strong threshold 0.5, l1-Gauss-Seidel),
+most 6 entries, one aggressive level, strong threshold 0.5, l1-Gauss-Seidel;
+three functions for the displacement, whose rows come in whole nodes),
 except the flux q and the traction t blocks (a mass matrix, a stabilization),
 by Jacobi. Right-preconditioned FGMRES(restart) to the relative true residual
 rtol from x = 0, as ours. These are the best settings found (README,
-"Peers").
+"Peers"); PETSC_OPTIONS in the environment overrides any of them (e.g.
+PETSC_OPTIONS='-pc_fieldsplit_schur_fact_type upper').
 
 Prints one line: iterations, set-up, solve and total seconds, the true
 relative residual, the peak resident memory of rank 0, and with --ours-setup
@@ -132,6 +134,9 @@ def split_level(pc, prefix, fields, names, blk, lo, hi, comm, opts):
     rows = np.arange(lo, hi)
     is0 = PETSc.IS().createGeneral(rows[head].astype(PETSc.IntType), comm=comm)
     is1 = PETSc.IS().createGeneral(rows[~head].astype(PETSc.IntType), comm=comm)
+    if names[fields[0] - 1] == "u":
+        # whole nodes of interleaved x, y, z: BoomerAMG gets three functions, as ours
+        is0.setBlockSize(3)
     pc.setType("fieldsplit")
     opts[prefix + "pc_type"] = "fieldsplit"
     opts[prefix + "pc_fieldsplit_type"] = "schur"
@@ -190,7 +195,8 @@ def main():
     else:
         rest = split_level(pc, "", fields, names, blk, lo, hi, comm, opts)
     for k, v in opts.items():
-        db[k] = v
+        if not db.hasName(k):        # PETSC_OPTIONS in the environment wins
+            db[k] = v
     ksp.setFromOptions()
     ksp.setUp()
     prefix, level_blk = "", blk
@@ -205,7 +211,8 @@ def main():
         more = {}
         rest_next = split_level(spc, prefix, rest, names, level_blk, sub_lo, sub_hi, comm, more)
         for k, v in more.items():
-            db[k] = v
+            if not db.hasName(k) or k.endswith("_pc_type"):
+                db[k] = v
         spc.setFromOptions()
         spc.setUp()
         pc, rest = spc, rest_next
