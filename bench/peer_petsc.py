@@ -125,17 +125,20 @@ def build(n, coo, b, comm):
     return mat, rhs, lo, hi
 
 
-def split_level(pc, prefix, fields, names, blk, lo, hi, comm, opts):
+def split_level(pc, prefix, fields, names, blk, ranges, comm, opts):
     """Schur fieldsplit of pc over the blocks `fields`: the first block against
     the rest. blk: the block of every row of the level's matrix (whole, on
-    every rank), lo:hi the rows this rank owns. Returns the remaining blocks
-    when they need a level of their own."""
+    every rank), ranges the rows each rank owns (this rank's: lo:hi).
+    Returns the remaining blocks when they need a level of their own."""
+    lo, hi = ranges[comm.getRank()], ranges[comm.getRank() + 1]
     head = blk[lo:hi] == fields[0]
     rows = np.arange(lo, hi)
     is0 = PETSc.IS().createGeneral(rows[head].astype(PETSc.IntType), comm=comm)
     is1 = PETSc.IS().createGeneral(rows[~head].astype(PETSc.IntType), comm=comm)
-    if names[fields[0] - 1] == "u":
-        # whole nodes of interleaved x, y, z: BoomerAMG gets three functions, as ours
+    counts = [int(np.sum(blk[ranges[r]:ranges[r + 1]] == fields[0])) for r in range(len(ranges) - 1)]
+    if names[fields[0] - 1] == "u" and all(c % 3 == 0 for c in counts):
+        # whole nodes of interleaved x, y, z on every rank: BoomerAMG gets
+        # three functions, as ours (else PETSc's row split cuts a node)
         is0.setBlockSize(3)
     pc.setType("fieldsplit")
     opts[prefix + "pc_type"] = "fieldsplit"
@@ -193,7 +196,7 @@ def main():
         single("", names[0], opts)
         rest = None
     else:
-        rest = split_level(pc, "", fields, names, blk, lo, hi, comm, opts)
+        rest = split_level(pc, "", fields, names, blk, mat.getOwnershipRanges(), comm, opts)
     for k, v in opts.items():
         if not db.hasName(k):        # PETSC_OPTIONS in the environment wins
             db[k] = v
@@ -207,9 +210,9 @@ def main():
         prefix += "fieldsplit_1_"
         level_blk = level_blk[np.isin(level_blk, rest)]
         spc = sub.getPC()
-        sub_lo, sub_hi = spc.getOperators()[1].getOwnershipRange()
         more = {}
-        rest_next = split_level(spc, prefix, rest, names, level_blk, sub_lo, sub_hi, comm, more)
+        rest_next = split_level(spc, prefix, rest, names, level_blk, spc.getOperators()[1].getOwnershipRanges(),
+                                comm, more)
         for k, v in more.items():
             if not db.hasName(k) or k.endswith("_pc_type"):
                 db[k] = v
