@@ -15,41 +15,40 @@ contains
   !> has no such line (another system: no limit is then known).
   function total_memory_bytes() result(bytes)
     integer(gp) :: bytes
-    integer :: unit, ios
-    integer(gp) :: kb
-    character(len=256) :: line
-    bytes = -1
-    open(newunit=unit, file='/proc/meminfo', status='old', action='read', iostat=ios)
-    if (ios /= 0) return
-    do
-      read(unit, '(a)', iostat=ios) line
-      if (ios /= 0) exit
-      if (index(line, 'MemTotal:') /= 1) cycle
-      read(line(10:), *, iostat=ios) kb          ! "MemTotal:   16318412 kB"
-      if (ios == 0 .and. kb > 0 .and. kb < 2_gp**40) bytes = kb * 1024
-      exit
-    end do
-    close(unit)
+    bytes = proc_kb('/proc/meminfo', 'MemTotal:')
+    if (bytes > 0 .and. bytes < 2_gp**40) then
+      bytes = bytes * 1024
+    else
+      bytes = -1
+    end if
   end function total_memory_bytes
 
   !> VmHWM of /proc/self/status, the peak resident set of this process
   !> [bytes]; -1 when it cannot be read.
   function peak_resident_bytes() result(bytes)
     integer(gp) :: bytes
-    integer :: unit, ios
+    bytes = proc_kb('/proc/self/status', 'VmHWM:')
+    if (bytes >= 0) bytes = bytes * 1024
+  end function peak_resident_bytes
+
+  !> The number of kB on the line of file that starts with key (e.g.
+  !> "MemTotal:   16318412 kB"); -1 when the file or the line is missing.
+  function proc_kb(file, key) result(kb)
+    character(len=*), intent(in) :: file, key
     integer(gp) :: kb
+    integer :: unit, ios
     character(len=256) :: line
-    bytes = -1
-    open(newunit=unit, file='/proc/self/status', status='old', action='read', iostat=ios)
+    kb = -1
+    open(newunit=unit, file=file, status='old', action='read', iostat=ios)
     if (ios /= 0) return
     do
       read(unit, '(a)', iostat=ios) line
       if (ios /= 0) exit
-      if (index(line, 'VmHWM:') /= 1) cycle
-      read(line(7:), *, iostat=ios) kb           ! "VmHWM:     123456 kB"
-      if (ios == 0 .and. kb >= 0) bytes = kb * 1024
+      if (index(line, key) /= 1) cycle
+      read(line(len(key) + 1:), *, iostat=ios) kb
+      if (ios /= 0) kb = -1
       exit
     end do
     close(unit)
-  end function peak_resident_bytes
+  end function proc_kb
 end module machine_memory
