@@ -18,6 +18,8 @@ module linear_system
 
   public :: linear_system_t
 
+  integer, parameter :: max_parts = 8
+
   type :: linear_system_t
     class(linear_operator_t), pointer :: a => null()   !< the operator (a csr_matrix_t or a block_matrix_t)
     real(rp), pointer :: b(:) => null()                !< right-hand side, owned entries
@@ -36,8 +38,14 @@ module linear_system
     type(csr_matrix_t), pointer :: k_ref => null()
     real(rp), pointer :: b_ref(:) => null()
     class(precon_t), pointer :: m_ref => null()
+    !> The preconditioner's components built by this set-up (a reused one
+    !> is not listed), with their seconds: the timing summary's set-up lines.
+    integer :: n_parts = 0
+    character(len=48) :: part_name(max_parts) = ''
+    real(rp) :: part_time(max_parts) = 0.0_rp
   contains
     procedure :: reset
+    procedure :: add_part
   end type linear_system_t
 
 contains
@@ -50,5 +58,17 @@ contains
     self%changed = .true.
     self%setup_time = 0.0_rp
     self%fields = ''
+    self%n_parts = 0
   end subroutine reset
+
+  !> A component of the set-up and its seconds (ignored beyond max_parts).
+  subroutine add_part(self, name, seconds)
+    class(linear_system_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    real(rp), intent(in) :: seconds
+    if (self%n_parts == max_parts) return
+    self%n_parts = self%n_parts + 1
+    self%part_name(self%n_parts) = name
+    self%part_time(self%n_parts) = seconds
+  end subroutine add_part
 end module linear_system

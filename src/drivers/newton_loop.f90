@@ -123,12 +123,16 @@ contains
     type(solve_info_t) :: info
     character(len=path_len) :: base
     logical :: has_nan, exported
+    integer :: i
     why = ''
     its = 0
     exported = .false.
     call timers%start('preconditioner set-up')
     call sim%linear_system(self%ls%is_direct(), self%sys, log, status)
     call timers%stop('preconditioner set-up')
+    do i = 1, self%sys%n_parts
+      call timers%add('  '//trim(self%sys%part_name(i)), self%sys%part_time(i))
+    end do
     stats%t_setup = stats%t_setup + self%sys%setup_time
     if (.not. status%ok()) then
       why = status%msg

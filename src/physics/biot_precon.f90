@@ -25,6 +25,7 @@ module biot_precon
   use precon, only: precon_t
   use jacobi_precon, only: jacobi_precon_t
   use precon_factory, only: precon_params_t, make_and_setup, stored_nnz
+  use linear_system, only: linear_system_t
   use fsai_params, only: fsai_params_t
   use block_fsai, only: decoupling_factor
   use block_precon, only: block_precon_t
@@ -48,6 +49,11 @@ module biot_precon
     type(fsai_params_t) :: fsai
     real(rp) :: schur_drop = 0.0_rp
     real(rp) :: t_p1 = 0.0_rp, t_p2 = 0.0_rp       !< seconds of the last set-up of each part
+    !> its components: the preconditioners of K and A, the explicit factors,
+    !> the Schur matrix and its preconditioner; fresh_*: built since the
+    !> caller last took them (add_parts)
+    real(rp) :: t_u = 0.0_rp, t_q = 0.0_rp, t_factors = 0.0_rp, t_smat = 0.0_rp, t_sprec = 0.0_rp
+    logical :: fresh_fixed = .false., fresh_dt = .false.
     real(rp) :: resid_f(2) = 0.0_rp               !< ||K F1 - Q|| / ||Q||, ||A F2 - B|| / ||B|| (Frobenius)
     integer(gp) :: nnz_matrix = 0                 !< non-zeros of the block matrix
     integer(gp) :: nnz_fixed = 0, nnz_dt = 0      !< stored non-zeros of the preconditioner (T_p1, T_p2 parts)
@@ -55,6 +61,7 @@ module biot_precon
     procedure :: setup_fixed
     procedure :: setup_dt
     procedure :: density
+    procedure :: add_parts
     procedure :: free
   end type biot_precon_t
 
@@ -74,7 +81,7 @@ contains
     class(precon_t), allocatable :: own
     type(global_csr_t) :: gk, ga, gq, gb, f1, f2, f1t, f2t, tmp
     type(csr_matrix_t) :: m
-    real(rp) :: t0
+    real(rp) :: t0, t1
     integer :: i, j
 
     t0 = wall_time()
@@ -92,6 +99,9 @@ contains
     call diagonal_precon(self, iu, phys%sys%a(iu, iu), scfg%k_precon, amg, self%key_u, status)
     if (status%ok()) call diagonal_precon(self, iq, phys%sys%a(iq, iq), scfg%flux_precon, amg_s, self%key_q, status)
     if (.not. status%ok()) return
+    self%t_u = self%bp%s(iu)%p%setup_time
+    self%t_q = self%bp%s(iq)%p%setup_time
+    t1 = wall_time()
 
     if (.not. self%explicit) then
       do i = 1, 2
@@ -144,6 +154,7 @@ contains
       end if
     end if
 
+    self%t_factors = wall_time() - t1
     self%nnz_matrix = 0
     do j = 1, 3
       do i = 1, 3
@@ -153,6 +164,7 @@ contains
     self%nnz_fixed = self%bp%nnz_explicit('F') + stored_nnz(self%bp%s(iu)%p) + stored_nnz(self%bp%s(iq)%p)
     if (self%mode == 'lower') self%nnz_fixed = self%nnz_fixed + self%bp%nnz_explicit('G')
     self%t_p1 = wall_time() - t0
+    self%fresh_fixed = .true.
   end subroutine setup_fixed
 
   !> S_i for a diagonal block: the preconditioner called which (the deck
@@ -199,12 +211,32 @@ contains
     case default
       call phys%fixed_stress_schur(mesh, dt, self%s)
     end select
+    self%t_smat = wall_time() - t0
     call diagonal_precon(self, ipr, self%s, self%schur_precon, self%amg_s, self%key_p, status)
+    if (status%ok()) self%t_sprec = self%bp%s(ipr)%p%setup_time
     if (self%explicit .and. (self%mode == 'ldu' .or. self%mode == 'lower')) call self%bp%set_explicit(ipr, iq, -dt)
     self%nnz_dt = stored_nnz(self%bp%s(ipr)%p)
     if (self%schur == 'explicit') self%nnz_dt = self%nnz_dt + self%s%global_nnz()
     self%t_p2 = wall_time() - t0
+    self%fresh_dt = .true.
   end subroutine setup_dt
+
+  !> The components built since the last call, into the set-up lines of sys.
+  subroutine add_parts(self, sys)
+    class(biot_precon_t), intent(inout) :: self
+    type(linear_system_t), intent(inout) :: sys
+    if (self%fresh_fixed) then
+      call sys%add_part('K: '//trim(self%bp%s(iu)%p%name()), self%t_u)
+      call sys%add_part('A (flux): '//trim(self%bp%s(iq)%p%name()), self%t_q)
+      if (self%explicit) call sys%add_part('decoupling factors (aFSAI)', self%t_factors)
+    end if
+    if (self%fresh_dt) then
+      call sys%add_part('Schur matrix ('//trim(self%schur)//')', self%t_smat)
+      call sys%add_part('Schur: '//trim(self%bp%s(ipr)%p%name()), self%t_sprec)
+    end if
+    self%fresh_fixed = .false.
+    self%fresh_dt = .false.
+  end subroutine add_parts
 
   !> Density mu of the seed's tables: stored non-zeros of the preconditioner
   !> (explicit factor blocks F, aFSAI factors, the explicit Schur matrix;

@@ -175,6 +175,7 @@ contains
     sys%m => self%bpc%bp
     sys%d => self%dscale
     sys%setup_time = self%t_p1 + self%t_p2
+    call self%bpc%add_parts(sys)
     if (self%solver%precon == 'mgr') then
       ! hypre's MGR on the whole system (the block preconditioner above
       ! still gives the scaling and the elastic reference's AMG)
@@ -185,6 +186,7 @@ contains
         if (.not. status%ok()) return
         self%mgr_dt = self%dt
         sys%setup_time = self%mgr%setup_time
+        call sys%add_part('hypre MGR', self%mgr%setup_time)
       end if
       sys%m => self%mgr
     end if

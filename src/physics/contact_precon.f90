@@ -68,9 +68,11 @@ module contact_precon
   use negated_precon, only: negated_precon_t
   use inner_cg_precon, only: inner_cg_precon_t
   use block_precon, only: block_precon_t
+  use coarse_precon, only: coarse_precon_t
   use dist_mesh, only: dist_mesh_t
   use contact, only: contact_t, state_stick
   use contact_config, only: contact_config_t
+  use linear_system, only: linear_system_t
   implicit none
   private
 
@@ -90,9 +92,17 @@ module contact_precon
     integer :: reused = 0                        !< set-ups that kept the Schur part
     real(rp) :: built_dt = -1.0_rp               !< flow: the time step of that build (the mass rows depend on it)
     real(rp) :: t_setup = 0.0_rp                 !< seconds of the last set-up
+    !> its components' seconds in the last set-up (0: not rebuilt): the AMG
+    !> of K (first set-up, classical), the Schur matrix (S*, S**, -S), its
+    !> preconditioner, S_p with its preconditioner ('schur'), the coarse space
+    real(rp) :: t_k = 0.0_rp, t_smat = 0.0_rp, t_sprec = 0.0_rp, t_sp = 0.0_rp, t_coarse = 0.0_rp
+    character(len=name_len) :: sprec_name = ''   !< the Schur matrix's preconditioner
+    type(coarse_precon_t) :: cc                  !< flow: bp with the per-fracture coarse space
+    character(len=name_len) :: coarse = 'none'   !< flow: the coarse space ('none', 'fracture'; &fracture_flow)
     integer(gp) :: nnz_schur = 0                 !< non-zeros of the last Schur matrix
   contains
     procedure :: setup
+    procedure :: add_parts
     procedure :: free
   end type contact_precon_t
 
@@ -101,7 +111,7 @@ contains
   !> Set up (first call) or refresh (later calls: the Schur part) for the
   !> current Jacobian of phys. amg: elasticity settings (for K and S*).
   !> Collective.
-  subroutine setup(self, phys, mesh, ccfg, amg, status, pressure_precon)
+  subroutine setup(self, phys, mesh, ccfg, amg, status, pressure_precon, scale)
     class(contact_precon_t), intent(inout), target :: self
     type(contact_t), intent(inout), target :: phys
     type(dist_mesh_t), intent(in) :: mesh
@@ -109,11 +119,17 @@ contains
     type(amg_params_t), intent(in) :: amg
     type(error_status_t), intent(inout) :: status
     character(len=*), intent(in), optional :: pressure_precon   !< flow: 'boomeramg' or 'jacobi' for S_p
+    real(rp), intent(in), optional :: scale(:)   !< flow with a coarse space: the system's scaling D (owned)
     class(precon_t), allocatable :: p
     type(precon_params_t) :: params
-    real(rp) :: t0
+    real(rp) :: t0, t1
     real(rp), allocatable :: h(:)
     t0 = wall_time()
+    self%t_k = 0.0_rp
+    self%t_smat = 0.0_rp
+    self%t_sprec = 0.0_rp
+    self%t_sp = 0.0_rp
+    self%t_coarse = 0.0_rp
     if (.not. self%ready) then
       self%variant = ccfg%block
       call self%bp%init(phys%sys, 'contact-'//trim(ccfg%block))
@@ -122,6 +138,7 @@ contains
         params%amg = amg
         call make_and_setup('boomeramg', p, phys%sys%a(phys%bu, phys%bu), params, status)
         if (.not. status%ok()) return
+        self%t_k = p%setup_time
         call move_alloc(p, self%bp%s(phys%bu)%p)
         call scale_rows_by_diagonal(phys%sys%a(phys%bu, phys%bu), self%gc1)
         call self%bp%set_implicit(phys%bu, phys%bt, phys%bu)
@@ -160,8 +177,16 @@ contains
       call classical_schur(self, phys, ccfg, amg, status)
     else
       call reordered_schur(self, phys, mesh, ccfg, amg, h, status)
-      if (status%ok() .and. phys%flow .and. .not. self%p_eliminated) &
+      t1 = wall_time()
+      if (status%ok() .and. phys%flow .and. .not. self%p_eliminated) then
         call pressure_schur(self, phys, h, amg, pressure_precon, status)
+        self%t_sp = wall_time() - t1
+      end if
+      t1 = wall_time()
+      if (status%ok() .and. phys%flow .and. self%coarse /= 'none') then
+        call fracture_coarse_space(self, phys, mesh, scale, status)
+        self%t_coarse = wall_time() - t1
+      end if
     end if
     if (status%ok()) self%built_state = phys%state(1:mesh%iface_map%n_owned)
     self%built_dt = phys%dt
@@ -178,6 +203,8 @@ contains
     type(global_csr_t) :: gc2, gtt, prod, negs
     class(precon_t), allocatable :: p
     type(precon_params_t) :: params
+    real(rp) :: t0
+    t0 = wall_time()
     call from_csr(phys%sys%a(phys%bt, phys%bu), gc2)
     call from_csr(phys%sys%a(phys%bt, phys%bt), gtt)
     call gcsr_multiply(gc2, self%gc1, prod)
@@ -189,8 +216,11 @@ contains
     params%amg = amg
     params%amg%num_functions = 1
     params%amg%strong_threshold = 0.25_rp
+    self%t_smat = wall_time() - t0
     call make_and_setup(ccfg%schur_precon, p, self%s, params, status)
     if (.not. status%ok()) return
+    self%t_sprec = p%setup_time
+    self%sprec_name = p%name()
     call replace_negated(self%bp%s(phys%bt)%p, p)
   end subroutine classical_schur
 
@@ -209,6 +239,8 @@ contains
     !> tolerance and cap of the inner CG of schur_solve = 'inner_cg'
     real(rp), parameter :: inner_rtol = 1.0e-10_rp
     integer, parameter :: inner_max_iter = 500
+    real(rp) :: t0
+    t0 = wall_time()
     allocate(h(phys%t%n_owned()))
     call phys%ht_diagonal(mesh, ccfg%aug_scale, ccfg%block == 'reordered', h)
     call put_diagonal(self%bp%s(phys%bt)%p, -h)
@@ -223,8 +255,11 @@ contains
     params%amg = amg
     ! S* has K's near-null space: the rigid-body modes, where asked (&amg)
     if (amg%interp_vec_variant > 0) params%modes = phys%mech%rigid_body_modes(mesh)
+    self%t_smat = wall_time() - t0
     call make_and_setup('boomeramg', p, self%s, params, status)
     if (.not. status%ok()) return
+    self%t_sprec = p%setup_time
+    self%sprec_name = p%name()
     if (ccfg%schur_solve == 'inner_cg') then
       allocate(inner_cg_precon_t :: w)
       select type (w)
@@ -235,6 +270,55 @@ contains
     end if
     call replace(self%bp%s(phys%bu)%p, p)
   end subroutine reordered_schur
+
+  !> The coarse space of the fluid's fractures: per fault whose elements
+  !> all stick, its pressure with its normal traction rising by as much.
+  !> The momentum rows do not see it (the total traction t - P p does not
+  !> change), the contact rows only through the stabilization and the mass
+  !> rows through the fracture's storage and flow: with a fluid of low
+  !> compressibility and a small residual aperture, a mode that the
+  !> Jacobian nearly annihilates and that the block preconditioner, with
+  !> -H~ for J_tt and the row sums D_p for A_pp, does not resolve. (On
+  !> slipping elements the same pressure change moves the friction and so
+  !> the displacement; extended there, with the tangential traction from the
+  !> element's J_tt block and the displacement from S**, the counts grew;
+  !> with the sticking elements of partly slipping faults in it, they grew
+  !> by about 8 % on those steps.) Collective.
+  subroutine fracture_coarse_space(self, phys, mesh, scale, status)
+    type(contact_precon_t), intent(inout), target :: self
+    type(contact_t), intent(inout), target :: phys
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: scale(:)
+    type(error_status_t), intent(inout) :: status
+    real(rp), allocatable :: z(:,:)
+    integer, allocatable :: col(:), n_held(:)
+    integer(ip) :: t0, t1, p0, p1, e
+    integer :: f, nc
+    call phys%sys%block_range(phys%bt, t0, t1)
+    call phys%sys%block_range(phys%bp, p0, p1)
+    ! a column per fault whose elements all stick
+    allocate(n_held(size(phys%faults)), col(size(phys%faults)))
+    n_held = 0
+    do e = 1, mesh%iface_map%n_owned
+      if (phys%state(e) /= state_stick) n_held(phys%fault(e)) = n_held(phys%fault(e)) + 1
+    end do
+    call mesh%comm%sum_all(n_held)
+    nc = 0
+    col = 0
+    do f = 1, size(phys%faults)
+      if (n_held(f) > 0) cycle
+      nc = nc + 1
+      col(f) = nc
+    end do
+    allocate(z(phys%sys%n_owned(), nc))
+    z = 0.0_rp
+    do e = 1, mesh%iface_map%n_owned
+      if (col(phys%fault(e)) == 0) cycle
+      z(p0 + e - 1, col(phys%fault(e))) = 1.0_rp
+      z(t0 + 3 * (e - 1), col(phys%fault(e))) = 1.0_rp
+    end do
+    call self%cc%setup(self%bp, phys%sys, mesh%comm, z, scale**2, status)
+  end subroutine fracture_coarse_space
 
   !> pressure_block = 'eliminated' (header): S_p = D_p, the row sums of
   !> |A_pp|, into its slot, and sstar -= Q1 D_p^-1 A_pu. (Built for the
@@ -405,6 +489,20 @@ contains
     call replace(slot, w)
   end subroutine replace_negated
 
+  !> The components built by the last set-up, into the set-up lines of sys.
+  subroutine add_parts(self, sys)
+    class(contact_precon_t), intent(in) :: self
+    type(linear_system_t), intent(inout) :: sys
+    character(len=8) :: sname
+    sname = merge('-S      ', 'S*      ', self%variant == 'classical')
+    if (self%p_eliminated) sname = 'S**'
+    if (self%t_k > 0.0_rp) call sys%add_part('K: boomeramg', self%t_k)
+    if (self%t_smat > 0.0_rp) call sys%add_part(trim(sname)//': product', self%t_smat)
+    if (self%t_sprec > 0.0_rp) call sys%add_part(trim(sname)//': '//trim(self%sprec_name), self%t_sprec)
+    if (self%t_sp > 0.0_rp) call sys%add_part('S_p: product and precon', self%t_sp)
+    if (self%t_coarse > 0.0_rp) call sys%add_part('coarse space', self%t_coarse)
+  end subroutine add_parts
+
   subroutine free(self)
     class(contact_precon_t), intent(inout) :: self
     call self%bp%free()
@@ -413,6 +511,7 @@ contains
     call self%gc1%free()
     call self%sp%free()
     call self%gup%free()
+    call self%cc%free()
     self%ready = .false.
     self%variant = ''
     self%p_eliminated = .false.

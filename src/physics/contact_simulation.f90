@@ -276,7 +276,9 @@ contains
     if (self%solver%precon == 'mgr') then
       call mgr_setup(self, status)
     else
-      call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon)
+      if (self%flow) self%cpc%coarse = self%fcfg%coarse_space
+      call scaling(self)
+      call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon, self%dsc)
     end if
     call agree(self%comm, status)
     if (.not. status%ok()) then
@@ -285,10 +287,14 @@ contains
     end if
     call scaling(self)
     if (self%solver%precon == 'mgr') then
+      call sys%add_part('hypre MGR', self%mgr%setup_time)
       sys%m => self%mgr
+    else if (self%flow .and. self%cpc%coarse /= 'none') then
+      sys%m => self%cpc%cc
     else
       sys%m => self%cpc%bp
     end if
+    if (self%solver%precon /= 'mgr') call self%cpc%add_parts(sys)
     sys%d => self%dsc
     sys%setup_time = wall_time() - t0
     call self%phys%sys%block_range(self%phys%bu, u0, u1)

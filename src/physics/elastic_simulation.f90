@@ -152,6 +152,7 @@ contains
       call self%mesh%node_keys(3, keys)
       call setup_precon(self%pc, self%mech%k, params, status, symmetric=.true., keys=keys)
       sys%setup_time = wall_time() - t0
+      call sys%add_part('K: '//trim(self%pc%name()), sys%setup_time)
       call agree(self%comm, status)
       if (status%ok()) call report_precon(self%pc, self%mech%k, log, status)
       if (.not. status%ok()) return

@@ -32,6 +32,7 @@ else
   ko "log file incomplete: $log"
 fi
 grep -q "^step 1/1 .*iterations" "$out/gmsh.stdout" && ok "progress line on stdout" || ko "no progress line on stdout"
+if r=$($PY tests/driver/check_timing.py "$log" "K: boomeramg" 2>&1); then ok "timing summary: set-up components, $r"; else ko "timing summary: $r"; fi
 
 # 2. matrix export of a small cube
 cat > "$out/export.nml" <<DECK

@@ -36,6 +36,11 @@ if run "$out/mandel_block.nml" 2 && run "$out/mandel_mgr.nml" 2; then
   if r=$($PY tests/invariance/compare_runs.py "$out/mandel_block" "$out/mandel_mgr" mandel 1e-6 pressure displacement 2>&1); then
     ok "Biot (Mandel), MGR vs block preconditioner, pressure and displacement (1e-6); its $(its "$out/mandel_mgr/mandel.log" '^step ' iterations) against $(its "$out/mandel_block/mandel.log" '^step ' iterations)"
   else ko "Biot (Mandel), MGR vs block preconditioner: $r"; fi
+  # the timing summary names each set-up component
+  if r=$($PY tests/driver/check_timing.py "$out/mandel_block/mandel.log" "K: boomeramg" "A (flux): jacobi" \
+       "Schur matrix (fixed_stress)" "Schur: boomeramg" 2>&1); then ok "Biot timing summary: $r"; else ko "Biot timing summary: $r"; fi
+  if r=$($PY tests/driver/check_timing.py "$out/mandel_mgr/mandel.log" "hypre MGR" 2>&1); then ok "Biot with MGR, timing summary: $r"
+  else ko "Biot with MGR, timing summary: $r"; fi
 fi
 
 # contact: the fault in a block (tests/decks/contact_block.nml), stick and slip
@@ -49,6 +54,8 @@ if run "$out/contact_block.nml" 2 && run "$out/contact_mgr.nml" 2; then
   if r=$($PY tests/verification/check_contact.py same "$out/contact_mgr" "$out/contact_block" 1e-6 2>&1); then
     ok "contact, MGR vs block preconditioner, jumps, tractions, statuses (1e-6); its $(its "$out/contact_mgr.log" '^  newton' 'linear its') against $(its "$out/contact_block.log" '^  newton' 'linear its')"
   else ko "contact, MGR vs block preconditioner: $(echo "$r" | tr '\n' ' ')"; fi
+  if r=$($PY tests/driver/check_timing.py "$out/contact_block.log" "S*: product" "S*: boomeramg" 2>&1); then
+    ok "contact timing summary: $r"; else ko "contact timing summary: $r"; fi
 fi
 
 # fracture flow: stick, slip and open (tests/decks/flow_states.nml), MGR vs MUMPS
