@@ -16,7 +16,7 @@ module block_matrix
   implicit none
   private
 
-  public :: block_matrix_t
+  public :: block_matrix_t, block_columns_t
 
   type, extends(linear_operator_t) :: block_matrix_t
     integer :: nb = 0
@@ -33,9 +33,20 @@ module block_matrix
     procedure :: n_owned => block_n_owned
     procedure :: block_range
     procedure :: apply_block
+    procedure :: apply_columns
     procedure :: monolithic
     procedure :: free
   end type block_matrix_t
+
+  !> y = A x for x nonzero only in the column blocks cols (A: a block
+  !> matrix kept by pointer): the products of the other blocks are skipped.
+  type, extends(linear_operator_t) :: block_columns_t
+    type(block_matrix_t), pointer :: a => null()
+    logical, allocatable :: cols(:)
+  contains
+    procedure :: apply => columns_apply
+    procedure :: n_owned => columns_n_owned
+  end type block_columns_t
 
 contains
 
@@ -114,6 +125,18 @@ contains
     class(block_matrix_t), intent(inout) :: self
     real(rp), intent(in) :: x(:)
     real(rp), intent(out) :: y(:)
+    integer :: j
+    call self%apply_columns([(.true., j = 1, self%nb)], x, y)
+  end subroutine block_apply
+
+  !> y = A(:, j) x_j summed over the column blocks j with cols(j): A x for
+  !> an x that vanishes in the other blocks, without their products.
+  !> Collective.
+  subroutine apply_columns(self, cols, x, y)
+    class(block_matrix_t), intent(inout) :: self
+    logical, intent(in) :: cols(:)
+    real(rp), intent(in) :: x(:)
+    real(rp), intent(out) :: y(:)
     integer :: i, j
     integer(ip) :: r0, r1, c0, c1
     if (.not. allocated(self%work)) allocate(self%work(self%offset(self%nb + 1)))
@@ -121,13 +144,26 @@ contains
     do i = 1, self%nb
       call self%block_range(i, r0, r1)
       do j = 1, self%nb
-        if (.not. self%has(i, j)) cycle
+        if (.not. (self%has(i, j) .and. cols(j))) cycle
         call self%block_range(j, c0, c1)
         call self%a(i, j)%apply(x(c0:c1), self%work(r0:r1))
         y(r0:r1) = y(r0:r1) + self%work(r0:r1)
       end do
     end do
-  end subroutine block_apply
+  end subroutine apply_columns
+
+  !> The operator of the column blocks `cols` of a block matrix (apply_columns).
+  subroutine columns_apply(self, x, y)
+    class(block_columns_t), intent(inout) :: self
+    real(rp), intent(in) :: x(:)
+    real(rp), intent(out) :: y(:)
+    call self%a%apply_columns(self%cols, x, y)
+  end subroutine columns_apply
+
+  integer(ip) function columns_n_owned(self)
+    class(block_columns_t), intent(in) :: self
+    columns_n_owned = self%a%n_owned()
+  end function columns_n_owned
 
   integer(ip) function block_n_owned(self)
     class(block_matrix_t), intent(in) :: self

@@ -22,14 +22,15 @@
 !>                      over the run than 'schur')             ['eliminated']
 !>   pressure_precon    pressure_block = 'schur': preconditioner of S_p,
 !>                      'boomeramg' or 'jacobi'                  ['boomeramg']
-!>   coarse_space       method = 'fgmres': 'fracture' adds to the block
-!>                      preconditioner a least-squares coarse correction
-!>                      with one vector per fault whose elements all
-!>                      stick: its pressure with its normal traction (a
-!>                      mode the Jacobian nearly annihilates when the fluid
-!>                      is stiff and the residual aperture small; halves
-!>                      the stick counts of the nine-fracture case);
-!>                      'none' leaves it out                   ['fracture']
+!>   subspace_correction  method = 'fgmres': before the block preconditioner,
+!>                      a correction in the fractures' subspace: per
+!>                      element its pressure with its normal traction (which
+!>                      the Jacobian nearly annihilates on closed elements
+!>                      when the fluid is stiff and the residual aperture
+!>                      small), its operator a Laplacian on the fracture
+!>                      surfaces solved by BoomerAMG; on the nine-fracture
+!>                      case it keeps the counts near the contact-only ones
+!>                      under refinement                             [.true.]
 !>
 !> &well (any number; at least one or a fracture gets no fluid): a source of
 !> fluid, either at a point (into the fracture element whose centre is
@@ -82,7 +83,7 @@ module flow_config
     real(rp) :: compressibility = 4.5e-10_rp       !< [1/Pa]
     character(len=name_len) :: pressure_precon = 'boomeramg'
     character(len=name_len) :: pressure_block = 'eliminated'
-    character(len=name_len) :: coarse_space = 'fracture'
+    logical :: subspace_correction = .true.
   contains
     procedure :: read => read_flow_config
     procedure :: describe => describe_flow_config
@@ -189,16 +190,17 @@ contains
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     real(rp) :: viscosity, residual_aperture, initial_pressure, compressibility
-    character(len=name_len) :: pressure_precon, pressure_block, coarse_space
+    character(len=name_len) :: pressure_precon, pressure_block
+    logical :: subspace_correction
     integer :: ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     namelist /fracture_flow/ viscosity, residual_aperture, initial_pressure, compressibility, pressure_precon, &
-                             pressure_block, coarse_space
+                             pressure_block, subspace_correction
     viscosity = self%viscosity; residual_aperture = self%residual_aperture; initial_pressure = self%initial_pressure
     compressibility = self%compressibility; pressure_precon = self%pressure_precon
     pressure_block = self%pressure_block
-    coarse_space = self%coarse_space
+    subspace_correction = self%subspace_correction
     if (d%count('fracture_flow') == 1) then
       call d%block('fracture_flow', 1, b)
       read(b, nml=fracture_flow, iostat=ios, iomsg=msg)
@@ -217,11 +219,8 @@ contains
       'pressure_precon', "must be 'boomeramg' or 'jacobi' (got '"//trim(pressure_precon)//"')")
     if (pressure_block /= 'schur' .and. pressure_block /= 'eliminated') call d%fail(status, 'fracture_flow', 1, &
       'pressure_block', "must be 'schur' or 'eliminated' (got '"//trim(pressure_block)//"')")
-    if (coarse_space /= 'none' .and. coarse_space /= 'fracture') &
-      call d%fail(status, 'fracture_flow', 1, 'coarse_space', "must be 'none' or 'fracture' (got '"// &
-                  trim(coarse_space)//"')")
     if (.not. status%ok()) return
-    self%coarse_space = coarse_space
+    self%subspace_correction = subspace_correction
     self%compressibility = compressibility
     self%pressure_precon = pressure_precon
     self%pressure_block = pressure_block
@@ -241,8 +240,8 @@ contains
     call g%add('pressure_block', self%pressure_block, '-', "FGMRES: the pressure 'schur' (last) or 'eliminated' "// &
                "(before u)")
     call g%add('pressure_precon', self%pressure_precon, '-', "FGMRES, 'schur': 'boomeramg' or 'jacobi' for S_p")
-    call g%add('coarse_space', self%coarse_space, '-', "FGMRES: per-fracture coarse correction, 'none' or "// &
-               "'fracture'")
+    call g%add('subspace_correction', self%subspace_correction, '-', "FGMRES: the fractures' subspace correction "// &
+               "(pressure with normal traction, AMG)")
   end subroutine describe_flow_config
 
   !> Read and check every &well group (rank 0 reads the histories later,

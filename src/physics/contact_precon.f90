@@ -52,6 +52,14 @@
 !> reduced nine-fracture case with exact inner solves, 35-60 iterations
 !> where 'schur' needs 77-101 (contact alone: 19-20).
 !>
+!> With the fluid, either way, the fractures' subspace correction
+!> (element_subspace below) goes before the block preconditioner: per
+!> element the pressure with the normal traction following it, L = A_pp -
+!> J_tt(n, n) on those pairs by BoomerAMG. On the nine-fracture case it took
+!> 'eliminated' from 65/36 (stick), 50-90 (slip) to 23/14 and 22-37 on 4 m
+!> cells, and from 112/63 and 80-199 to 24/15 and 28-43 on 2 m cells
+!> (contact alone: 28 and 25-34).
+!>
 !> K does not change during a run: its AMG (classical) and its global copy
 !> for the products are made once; the Schur parts are rebuilt at every
 !> Newton iteration, because C2 and the (t,t) block follow the statuses.
@@ -68,9 +76,10 @@ module contact_precon
   use negated_precon, only: negated_precon_t
   use inner_cg_precon, only: inner_cg_precon_t
   use block_precon, only: block_precon_t
-  use coarse_precon, only: coarse_precon_t
+  use block_matrix, only: block_columns_t
+  use subspace_precon, only: subspace_precon_t
   use dist_mesh, only: dist_mesh_t
-  use contact, only: contact_t, state_stick
+  use contact, only: contact_t, state_stick, state_open
   use contact_config, only: contact_config_t
   use linear_system, only: linear_system_t
   implicit none
@@ -94,11 +103,14 @@ module contact_precon
     real(rp) :: t_setup = 0.0_rp                 !< seconds of the last set-up
     !> its components' seconds in the last set-up (0: not rebuilt): the AMG
     !> of K (first set-up, classical), the Schur matrix (S*, S**, -S), its
-    !> preconditioner, S_p with its preconditioner ('schur'), the coarse space
-    real(rp) :: t_k = 0.0_rp, t_smat = 0.0_rp, t_sprec = 0.0_rp, t_sp = 0.0_rp, t_coarse = 0.0_rp
+    !> preconditioner, S_p with its preconditioner ('schur'), the subspace's L
+    real(rp) :: t_k = 0.0_rp, t_smat = 0.0_rp, t_sprec = 0.0_rp, t_sp = 0.0_rp, t_sub = 0.0_rp
     character(len=name_len) :: sprec_name = ''   !< the Schur matrix's preconditioner
-    type(coarse_precon_t) :: cc                  !< flow: bp with the per-fracture coarse space
-    character(len=name_len) :: coarse = 'none'   !< flow: the coarse space ('none', 'fracture'; &fracture_flow)
+    type(subspace_precon_t) :: sub               !< flow: bp with the per-element subspace correction
+    type(block_columns_t) :: tp_columns          !< the Jacobian's t and p column blocks (products with Z)
+    type(csr_matrix_t) :: lsub                   !< its operator L = Y^T A Z
+    class(precon_t), allocatable :: plsub        !< BoomerAMG of L
+    logical :: subspace = .false.                !< flow: the subspace correction (&fracture_flow)
     integer(gp) :: nnz_schur = 0                 !< non-zeros of the last Schur matrix
   contains
     procedure :: setup
@@ -111,7 +123,7 @@ contains
   !> Set up (first call) or refresh (later calls: the Schur part) for the
   !> current Jacobian of phys. amg: elasticity settings (for K and S*).
   !> Collective.
-  subroutine setup(self, phys, mesh, ccfg, amg, status, pressure_precon, scale)
+  subroutine setup(self, phys, mesh, ccfg, amg, status, pressure_precon)
     class(contact_precon_t), intent(inout), target :: self
     type(contact_t), intent(inout), target :: phys
     type(dist_mesh_t), intent(in) :: mesh
@@ -119,7 +131,6 @@ contains
     type(amg_params_t), intent(in) :: amg
     type(error_status_t), intent(inout) :: status
     character(len=*), intent(in), optional :: pressure_precon   !< flow: 'boomeramg' or 'jacobi' for S_p
-    real(rp), intent(in), optional :: scale(:)   !< flow with a coarse space: the system's scaling D (owned)
     class(precon_t), allocatable :: p
     type(precon_params_t) :: params
     real(rp) :: t0, t1
@@ -129,7 +140,7 @@ contains
     self%t_smat = 0.0_rp
     self%t_sprec = 0.0_rp
     self%t_sp = 0.0_rp
-    self%t_coarse = 0.0_rp
+    self%t_sub = 0.0_rp
     if (.not. self%ready) then
       self%variant = ccfg%block
       call self%bp%init(phys%sys, 'contact-'//trim(ccfg%block))
@@ -183,9 +194,9 @@ contains
         self%t_sp = wall_time() - t1
       end if
       t1 = wall_time()
-      if (status%ok() .and. phys%flow .and. self%coarse /= 'none') then
-        call fracture_coarse_space(self, phys, mesh, scale, status)
-        self%t_coarse = wall_time() - t1
+      if (status%ok() .and. phys%flow .and. self%subspace) then
+        call element_subspace(self, phys, mesh, amg, status)
+        self%t_sub = wall_time() - t1
       end if
     end if
     if (status%ok()) self%built_state = phys%state(1:mesh%iface_map%n_owned)
@@ -271,54 +282,82 @@ contains
     call replace(self%bp%s(phys%bu)%p, p)
   end subroutine reordered_schur
 
-  !> The coarse space of the fluid's fractures: per fault whose elements
-  !> all stick, its pressure with its normal traction rising by as much.
-  !> The momentum rows do not see it (the total traction t - P p does not
-  !> change), the contact rows only through the stabilization and the mass
-  !> rows through the fracture's storage and flow: with a fluid of low
-  !> compressibility and a small residual aperture, a mode that the
-  !> Jacobian nearly annihilates and that the block preconditioner, with
-  !> -H~ for J_tt and the row sums D_p for A_pp, does not resolve. (On
-  !> slipping elements the same pressure change moves the friction and so
-  !> the displacement; extended there, with the tangential traction from the
-  !> element's J_tt block and the displacement from S**, the counts grew;
-  !> with the sticking elements of partly slipping faults in it, they grew
-  !> by about 8 % on those steps.) Collective.
-  subroutine fracture_coarse_space(self, phys, mesh, scale, status)
+  !> The fractures' subspace correction (&fracture_flow subspace_correction,
+  !> subspace_precon.f90), one vector per element: on a closed element its
+  !> pressure with its normal traction rising by as much, on an open one its
+  !> pressure. On a closed element that pair moves nothing in the momentum
+  !> rows (the total traction t - P p is unchanged); the contact rows see it
+  !> through the stabilization H_t and the mass rows through the flow, the
+  !> storage and the wells. With a stiff fluid and a small residual aperture
+  !> the Jacobian nearly annihilates these vectors, and the block
+  !> preconditioner, with the diagonals -H~ and D_p for J_tt and A_pp, does
+  !> not resolve them: GMRES found them one at a time (plateaus of its
+  !> residual) and needed more of them on every finer mesh. With the left
+  !> vectors pressure minus normal traction, L = Y^T A Z = A_pp - J_tt(n, n)
+  !> on the closed pairs: a Laplacian on the fracture surfaces (flow plus
+  !> stabilization), for BoomerAMG. (Tried first and left: one vector per
+  !> fracture, its mean, by a least-squares coarse step: it halved the stick
+  !> counts but not their growth.) Collective.
+  subroutine element_subspace(self, phys, mesh, amg, status)
     type(contact_precon_t), intent(inout), target :: self
     type(contact_t), intent(inout), target :: phys
     type(dist_mesh_t), intent(in) :: mesh
-    real(rp), intent(in) :: scale(:)
+    type(amg_params_t), intent(in) :: amg
     type(error_status_t), intent(inout) :: status
-    real(rp), allocatable :: z(:,:)
-    integer, allocatable :: col(:), n_held(:)
-    integer(ip) :: t0, t1, p0, p1, e
-    integer :: f, nc
+    integer(ip), allocatable :: ptr(:), idx(:)
+    real(rp), allocatable :: zval(:), yval(:)
+    integer(ip) :: t0, t1, p0, p1, e, k, c, n, kt
+    type(precon_params_t) :: params
     call phys%sys%block_range(phys%bt, t0, t1)
     call phys%sys%block_range(phys%bp, p0, p1)
-    ! a column per fault whose elements all stick
-    allocate(n_held(size(phys%faults)), col(size(phys%faults)))
-    n_held = 0
-    do e = 1, mesh%iface_map%n_owned
-      if (phys%state(e) /= state_stick) n_held(phys%fault(e)) = n_held(phys%fault(e)) + 1
-    end do
-    call mesh%comm%sum_all(n_held)
-    nc = 0
-    col = 0
-    do f = 1, size(phys%faults)
-      if (n_held(f) > 0) cycle
-      nc = nc + 1
-      col(f) = nc
-    end do
-    allocate(z(phys%sys%n_owned(), nc))
-    z = 0.0_rp
-    do e = 1, mesh%iface_map%n_owned
-      if (col(phys%fault(e)) == 0) cycle
-      z(p0 + e - 1, col(phys%fault(e))) = 1.0_rp
-      z(t0 + 3 * (e - 1), col(phys%fault(e))) = 1.0_rp
-    end do
-    call self%cc%setup(self%bp, phys%sys, mesh%comm, z, scale**2, status)
-  end subroutine fracture_coarse_space
+    call self%lsub%free()
+    self%lsub = phys%sys%a(phys%bp, phys%bp)
+    nullify(self%lsub%owned_col_map)
+    associate (jtt => phys%sys%a(phys%bt, phys%bt), l => self%lsub, st => phys%state)
+      do e = 1, l%n_rows
+        if (st(e) == state_open) cycle
+        do k = l%row_ptr(e), l%row_ptr(e + 1) - 1
+          c = l%col(k)
+          if (st(c) == state_open) cycle
+          do kt = jtt%row_ptr(3 * (e - 1) + 1), jtt%row_ptr(3 * (e - 1) + 2) - 1
+            if (jtt%col(kt) == 3 * (c - 1) + 1) l%val(k) = l%val(k) - jtt%val(kt)
+          end do
+        end do
+      end do
+      n = l%n_rows
+      allocate(ptr(n + 1), idx(2 * n), zval(2 * n), yval(2 * n))
+      ptr(1) = 1
+      k = 0
+      do e = 1, n
+        if (st(e) /= state_open) then
+          k = k + 1
+          idx(k) = t0 + 3 * (e - 1)
+          zval(k) = 1.0_rp
+          yval(k) = -1.0_rp
+        end if
+        k = k + 1
+        idx(k) = p0 + e - 1
+        zval(k) = 1.0_rp
+        yval(k) = 1.0_rp
+        ptr(e + 1) = k + 1
+      end do
+    end associate
+    params%amg = amg
+    params%amg%num_functions = 1
+    params%amg%strong_threshold = 0.25_rp
+    if (allocated(self%plsub)) then
+      call self%plsub%free()
+      deallocate(self%plsub)
+    end if
+    call make_and_setup('boomeramg', self%plsub, self%lsub, params, status)
+    if (.not. status%ok()) return
+    idx = idx(1:k)
+    zval = zval(1:k)
+    yval = yval(1:k)
+    self%tp_columns%a => phys%sys
+    self%tp_columns%cols = [(k == phys%bt .or. k == phys%bp, k = 1, phys%sys%nb)]
+    call self%sub%setup(self%bp, self%tp_columns, self%plsub, ptr, idx, zval, yval, phys%sys%n_owned())
+  end subroutine element_subspace
 
   !> pressure_block = 'eliminated' (header): S_p = D_p, the row sums of
   !> |A_pp|, into its slot, and sstar -= Q1 D_p^-1 A_pu. (Built for the
@@ -500,7 +539,7 @@ contains
     if (self%t_smat > 0.0_rp) call sys%add_part(trim(sname)//': product', self%t_smat)
     if (self%t_sprec > 0.0_rp) call sys%add_part(trim(sname)//': '//trim(self%sprec_name), self%t_sprec)
     if (self%t_sp > 0.0_rp) call sys%add_part('S_p: product and precon', self%t_sp)
-    if (self%t_coarse > 0.0_rp) call sys%add_part('coarse space', self%t_coarse)
+    if (self%t_sub > 0.0_rp) call sys%add_part('subspace: L and its AMG', self%t_sub)
   end subroutine add_parts
 
   subroutine free(self)
@@ -511,7 +550,12 @@ contains
     call self%gc1%free()
     call self%sp%free()
     call self%gup%free()
-    call self%cc%free()
+    call self%sub%free()
+    call self%lsub%free()
+    if (allocated(self%plsub)) then
+      call self%plsub%free()
+      deallocate(self%plsub)
+    end if
     self%ready = .false.
     self%variant = ''
     self%p_eliminated = .false.

@@ -276,9 +276,8 @@ contains
     if (self%solver%precon == 'mgr') then
       call mgr_setup(self, status)
     else
-      if (self%flow) self%cpc%coarse = self%fcfg%coarse_space
-      call scaling(self)
-      call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon, self%dsc)
+      self%cpc%subspace = self%flow .and. self%fcfg%subspace_correction
+      call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon)
     end if
     call agree(self%comm, status)
     if (.not. status%ok()) then
@@ -289,8 +288,8 @@ contains
     if (self%solver%precon == 'mgr') then
       call sys%add_part('hypre MGR', self%mgr%setup_time)
       sys%m => self%mgr
-    else if (self%flow .and. self%cpc%coarse /= 'none') then
-      sys%m => self%cpc%cc
+    else if (self%cpc%subspace) then
+      sys%m => self%cpc%sub
     else
       sys%m => self%cpc%bp
     end if

@@ -221,22 +221,28 @@ contains
   !> (owned dofs) at load factor lf (loads and prescribed displacements scaled
   !> by lf). Optional body (added to the materials' body forces) and dirichlet
   !> (replacing the prescribed values) are functions of position, for
-  !> manufactured solutions. Collective.
-  subroutine assemble_into(self, mesh, lf, k, rhs, body, dirichlet)
+  !> manufactured solutions. rhs_only: k holds this K already (assembled by
+  !> an earlier call), only the right-hand side is made: the element
+  !> stiffness only of cells with prescribed dofs (their lifting). Collective.
+  subroutine assemble_into(self, mesh, lf, k, rhs, body, dirichlet, rhs_only)
     class(elasticity_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), intent(in) :: lf
     type(csr_matrix_t), intent(inout) :: k
     real(rp), intent(out) :: rhs(:)
     class(vector_function_t), intent(in), optional :: body, dirichlet
+    logical, intent(in), optional :: rhs_only
     real(rp), allocatable :: f_loc(:)
     real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, ke(24, 24), fe(24), ue(24), xq(3), bf(3)
     real(rp) :: xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), da
     integer(ip) :: c, q, a, i, j, dofs(24), r, t, f, nown
     type(parallel_comm_t) :: comm
     real(rp) :: dsum, dcount
+    logical :: matrix, loaded, lifted
 
-    call k%zero()
+    matrix = .true.
+    if (present(rhs_only)) matrix = .not. rhs_only
+    if (matrix) call k%zero()
     allocate(f_loc(self%u%n_local()))
     f_loc = 0.0_rp
     call gauss_hex(2_ip, xi, w)
@@ -246,20 +252,25 @@ contains
       do a = 1, 8
         dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
       end do
-      call self%element_stiffness(mesh, c, ke)
+      loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp)
+      lifted = any(self%fixed(dofs))
+      if (.not. (matrix .or. lifted .or. loaded)) cycle
+      if (matrix .or. lifted) call self%element_stiffness(mesh, c, ke)
       fe = 0.0_rp
-      do q = 1, 8
-        call hex_gradients(x, xi(:, q), n, g, det)
-        det = det * w(q)
-        bf = self%body(:, r)
-        if (present(body)) then
-          xq = matmul(x, n)
-          bf = bf + body%eval(xq)
-        end if
-        do a = 1, 8
-          fe(3*a-2:3*a) = fe(3*a-2:3*a) + n(a) * bf * det
+      if (loaded) then
+        do q = 1, 8
+          call hex_gradients(x, xi(:, q), n, g, det)
+          det = det * w(q)
+          bf = self%body(:, r)
+          if (present(body)) then
+            xq = matmul(x, n)
+            bf = bf + body%eval(xq)
+          end if
+          do a = 1, 8
+            fe(3*a-2:3*a) = fe(3*a-2:3*a) + n(a) * bf * det
+          end do
         end do
-      end do
+      end if
       fe = lf * fe
       ! prescribed dofs: move their known values to the right-hand side
       do j = 1, 24
@@ -272,7 +283,7 @@ contains
         ke(j, :) = 0.0_rp
         fe(j) = 0.0_rp
       end do
-      call k%add_block(dofs, dofs, ke)
+      if (matrix) call k%add_block(dofs, dofs, ke)
       f_loc(dofs) = f_loc(dofs) + fe
     end do
 
@@ -294,27 +305,29 @@ contains
       end do
     end do
 
-    call k%finalize_assembly()
+    if (matrix) call k%finalize_assembly()
     call self%u%map%export_add(f_loc)
     nown = self%u%n_owned()
     rhs = f_loc(1:nown)
 
     ! prescribed rows: mean diagonal of the free rows, scaled value
-    comm = mesh%comm
-    dsum = 0.0_rp
-    dcount = 0.0_rp
-    do i = 1, nown
-      if (self%fixed(i)) cycle
-      dsum = dsum + k%val(k%find(i, i))
-      dcount = dcount + 1.0_rp
-    end do
-    dsum = comm%sum(dsum)
-    dcount = comm%sum(dcount)
-    self%diag_scale = 1.0_rp
-    if (dcount > 0.0_rp) self%diag_scale = dsum / dcount
+    if (matrix) then
+      comm = mesh%comm
+      dsum = 0.0_rp
+      dcount = 0.0_rp
+      do i = 1, nown
+        if (self%fixed(i)) cycle
+        dsum = dsum + k%val(k%find(i, i))
+        dcount = dcount + 1.0_rp
+      end do
+      dsum = comm%sum(dsum)
+      dcount = comm%sum(dcount)
+      self%diag_scale = 1.0_rp
+      if (dcount > 0.0_rp) self%diag_scale = dsum / dcount
+    end if
     do i = 1, nown
       if (.not. self%fixed(i)) cycle
-      k%val(k%find(i, i)) = self%diag_scale
+      if (matrix) k%val(k%find(i, i)) = self%diag_scale
       a = (i - 1) / 3 + 1
       j = mod(i - 1, 3) + 1
       rhs(i) = self%diag_scale * prescribed(i, mesh%coords(:, a), j)

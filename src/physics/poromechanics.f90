@@ -56,6 +56,11 @@ module poromechanics
     real(rp) :: a_scale = 1.0_rp
     real(rp), allocatable :: a_norm(:)        !< ||A(f,:)||_2 by local face (ghosts imported)
     real(rp), allocatable :: jump_w(:)        !< pressure-jump stabilization weight by local face [m^3/Pa]
+    !> The matrix is the same at every step but for its (p, q) block, dt B:
+    !> assembled once (matrix_ready), then only that block is scaled (from
+    !> pq_unit, B's values) and the right-hand side made again
+    logical :: matrix_ready = .false.
+    real(rp), allocatable :: pq_unit(:)
   contains
     procedure :: init
     procedure :: assemble
@@ -252,15 +257,18 @@ contains
     real(rp), allocatable :: u_old(:), q_loc(:), rhs_u(:), p_old(:)
     real(rp) :: xe(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, qe(24), ae(6, 6), be(6), b
     integer(ip) :: c, a, q, j, dofs(24), faces(6), r, nu, nq, i, f, u0, u1, q0, q1, p0, p1
+    logical :: matrix
 
-    call self%sys%zero()
+    ! the matrix once (it does not change but for dt B); the right-hand side always
+    matrix = .not. self%matrix_ready
+    if (matrix) call self%sys%zero()
     call self%sys%block_range(iu, u0, u1)
     call self%sys%block_range(iq, q0, q1)
     call self%sys%block_range(ipr, p0, p1)
     ! mechanics: K and f with the displacement conditions
     call self%mech%set_time(t_new)
     allocate(rhs_u(u1 - u0 + 1))
-    call self%mech%assemble_into(mesh, 1.0_rp, self%sys%a(iu, iu), rhs_u)
+    call self%mech%assemble_into(mesh, 1.0_rp, self%sys%a(iu, iu), rhs_u, rhs_only=.not. matrix)
     self%rhs = 0.0_rp
     self%rhs(u0:u1) = rhs_u
     ! previous displacement with ghosts (for the eliminated columns of Q^T)
@@ -285,31 +293,36 @@ contains
       do a = 1, 8
         dofs(3*a-2:3*a) = self%mech%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
       end do
-      ! Q_e = b int grad N
-      qe = 0.0_rp
-      do q = 1, 8
-        call hex_gradients(xe, xi(:, q), n, g, det)
-        do a = 1, 8
-          qe(3*a-2:3*a) = qe(3*a-2:3*a) + b * g(:, a) * det * w(q)
+      ! Q_e = b int grad N (for the matrix, or the known displacements' columns)
+      if (matrix .or. any(self%mech%fixed(dofs))) then
+        qe = 0.0_rp
+        do q = 1, 8
+          call hex_gradients(xe, xi(:, q), n, g, det)
+          do a = 1, 8
+            qe(3*a-2:3*a) = qe(3*a-2:3*a) + b * g(:, a) * det * w(q)
+          end do
         end do
-      end do
-      do j = 1, 24
-        if (self%mech%fixed(dofs(j))) then
-          ! known displacement: Q^T column to the right-hand side (its change over the step)
-          self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) - qe(j) * (self%mech%prescribed_value(dofs(j)) - u_old(dofs(j)))
-        else
-          call self%sys%a(iu, ipr)%add_value(dofs(j), c, -qe(j))
-          call self%sys%a(ipr, iu)%add_value(c, dofs(j), qe(j))
-        end if
-      end do
-      ! Darcy: A_e and B_e in the global face orientation
-      call rt0_cell_mass(xe, self%kinv(:, :, r), ae, status)
-      if (.not. status%ok()) return
-      call rt0_cell_divergence(xe, be, status)
-      if (.not. status%ok()) return
-      call rt0_orient(mesh%cell_face_sign(:, c), ae)
-      call rt0_orient(mesh%cell_face_sign(:, c), be)
+        do j = 1, 24
+          if (self%mech%fixed(dofs(j))) then
+            ! known displacement: Q^T column to the right-hand side (its change over the step)
+            self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) - qe(j) * (self%mech%prescribed_value(dofs(j)) - u_old(dofs(j)))
+          else if (matrix) then
+            call self%sys%a(iu, ipr)%add_value(dofs(j), c, -qe(j))
+            call self%sys%a(ipr, iu)%add_value(c, dofs(j), qe(j))
+          end if
+        end do
+      end if
+      ! Darcy: A_e and B_e in the global face orientation (for the matrix,
+      ! or the prescribed fluxes' columns)
       faces = mesh%cell_faces(:, c)
+      if (matrix .or. any(self%q_fixed(faces))) then
+        call rt0_cell_mass(xe, self%kinv(:, :, r), ae, status)
+        if (.not. status%ok()) return
+        call rt0_cell_divergence(xe, be, status)
+        if (.not. status%ok()) return
+        call rt0_orient(mesh%cell_face_sign(:, c), ae)
+        call rt0_orient(mesh%cell_face_sign(:, c), be)
+      end if
       do j = 1, 6
         f = faces(j)
         if (self%q_fixed(f)) then
@@ -319,15 +332,17 @@ contains
           self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) - dt * be(j) * flux_value(f)
           cycle
         end if
-        do i = 1, 6
-          if (.not. self%q_fixed(faces(i))) call self%sys%a(iq, iq)%add_value(faces(i), f, ae(i, j))
-        end do
-        call self%sys%a(iq, ipr)%add_value(f, c, -be(j))
-        if (dt > 0.0_rp) call self%sys%a(ipr, iq)%add_value(c, f, dt * be(j))
+        if (matrix) then
+          do i = 1, 6
+            if (.not. self%q_fixed(faces(i))) call self%sys%a(iq, iq)%add_value(faces(i), f, ae(i, j))
+          end do
+          call self%sys%a(iq, ipr)%add_value(f, c, -be(j))
+          call self%sys%a(ipr, iq)%add_value(c, f, be(j))      ! B; dt B below
+        end if
         if (self%p_face(f)) q_loc(f) = q_loc(f) - self%p_bc(f) * self%bcs(self%face_bc(f))%factor(t_new)
       end do
       ! storage and sources
-      call self%sys%a(ipr, ipr)%add_value(c, c, self%vol(c) * self%inv_m(r))
+      if (matrix) call self%sys%a(ipr, ipr)%add_value(c, c, self%vol(c) * self%inv_m(r))
       self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) + dt * self%src_rate(r) * self%vol(c)
       ! pressure-jump stabilization on the pressure increment
       do j = 1, 6
@@ -335,12 +350,19 @@ contains
         if (self%jump_w(f) == 0.0_rp) cycle
         i = mesh%face_cells(1, f)
         if (i == c) i = mesh%face_cells(2, f)
-        call self%sys%a(ipr, ipr)%add_value(c, c, self%jump_w(f))
-        call self%sys%a(ipr, ipr)%add_value(c, i, -self%jump_w(f))
+        if (matrix) then
+          call self%sys%a(ipr, ipr)%add_value(c, c, self%jump_w(f))
+          call self%sys%a(ipr, ipr)%add_value(c, i, -self%jump_w(f))
+        end if
         self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) + self%jump_w(f) * (p_old(c) - p_old(i))
       end do
     end do
-    call self%sys%finalize_assembly()
+    if (matrix) then
+      call self%sys%finalize_assembly()
+      self%pq_unit = self%sys%a(ipr, iq)%val
+      self%matrix_ready = .true.
+    end if
+    self%sys%a(ipr, iq)%val = dt * self%pq_unit
     ! pressure faces appear once (one cell), counted above only for owned cells
     call self%qd%map%export_add(q_loc)
     self%rhs(q0:q1) = q_loc(1:self%qd%n_owned())
