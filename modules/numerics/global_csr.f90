@@ -25,6 +25,7 @@ module global_csr
 
   public :: global_csr_t, row_store_t
   public :: from_csr, to_csr, fetch_rows, gcsr_transpose, gcsr_multiply, gcsr_add, drop_small, search_gid
+  public :: csr_positions, same_pattern
 
   type :: global_csr_t
     type(parallel_comm_t) :: comm
@@ -206,6 +207,48 @@ contains
     m%val = v
     m%owned_col_map => cmap
   end subroutine to_csr
+
+  !> perm(k) = the position in g of entry k of m, where m came from g by
+  !> to_csr (the same rows; per row the same global columns, in local
+  !> order): a later g of the same pattern then refreshes m's values as
+  !> m%val = g%val(perm), without a new matrix.
+  subroutine csr_positions(g, m, perm)
+    type(global_csr_t), intent(in) :: g
+    type(csr_matrix_t), intent(in) :: m
+    integer(ip), allocatable, intent(out) :: perm(:)
+    integer(ip) :: i, k, lo, hi, mid
+    integer(gp) :: c
+    allocate(perm(m%nnz()))
+    do i = 1, m%n_rows
+      do k = m%row_ptr(i), m%row_ptr(i + 1) - 1
+        c = m%col_map%global_id(m%col(k))
+        lo = g%row_ptr(i)
+        hi = g%row_ptr(i + 1) - 1
+        do while (lo < hi)
+          mid = (lo + hi) / 2
+          if (g%gcol(mid) < c) then
+            lo = mid + 1
+          else
+            hi = mid
+          end if
+        end do
+        if (g%gcol(lo) /= c) error stop 'global_csr%csr_positions: m is not from g'
+        perm(k) = lo
+      end do
+    end do
+  end subroutine csr_positions
+
+  !> g has exactly the rows and columns row_ptr, gcol.
+  logical function same_pattern(g, row_ptr, gcol)
+    type(global_csr_t), intent(in) :: g
+    integer(ip), intent(in) :: row_ptr(:)
+    integer(gp), intent(in) :: gcol(:)
+    same_pattern = .false.
+    if (size(row_ptr) /= g%n_rows + 1) return
+    if (any(row_ptr /= g%row_ptr)) return
+    if (size(gcol) /= g%nnz()) return
+    same_pattern = all(gcol == g%gcol(1:g%nnz()))
+  end function same_pattern
 
   !> Sort one row by global column (values follow). Rows that are in order
   !> already (most: a column map numbers owned columns first, in order) are

@@ -68,13 +68,14 @@ module contact_precon
   use parallel_comm, only: wall_time
   use error_status, only: error_status_t
   use csr_matrix, only: csr_matrix_t
-  use global_csr, only: global_csr_t, from_csr, to_csr, gcsr_multiply, gcsr_add
+  use global_csr, only: global_csr_t, from_csr, to_csr, gcsr_multiply, gcsr_add, csr_positions, same_pattern
   use amg_params, only: amg_params_t
   use precon, only: precon_t
   use precon_factory, only: precon_params_t, make_and_setup
   use jacobi_precon, only: jacobi_precon_t
   use negated_precon, only: negated_precon_t
   use inner_cg_precon, only: inner_cg_precon_t
+  use boomeramg_precon, only: boomeramg_precon_t
   use block_precon, only: block_precon_t
   use block_matrix, only: block_columns_t
   use subspace_precon, only: subspace_precon_t
@@ -112,6 +113,10 @@ module contact_precon
     class(precon_t), allocatable :: plsub        !< BoomerAMG of L
     logical :: subspace = .false.                !< flow: the subspace correction (&fracture_flow)
     integer(gp) :: nnz_schur = 0                 !< non-zeros of the last Schur matrix
+    !> S*'s pattern as built (rows, global columns) and where each of its
+    !> entries sits in the product's arrays: a refresh of the values
+    integer(ip), allocatable :: s_rowptr(:), s_perm(:)
+    integer(gp), allocatable :: s_gcol(:)
   contains
     procedure :: setup
     procedure :: add_parts
@@ -260,8 +265,25 @@ contains
     call gcsr_multiply(self%gc1, gc2, prod)
     call gcsr_add(1.0_rp, self%gk, 1.0_rp, prod, sstar)
     if (self%p_eliminated) call eliminate_pressure(self, phys, sstar)
+    ! the same pattern as the last S* (it is: C2's pattern is fixed), its
+    ! BoomerAMG plain: new values into the same matrix and hierarchy update
+    if (ccfg%schur_solve /= 'inner_cg' .and. allocated(self%s_perm)) then
+      if (.not. mesh%comm%any_true(.not. same_pattern(sstar, self%s_rowptr, self%s_gcol))) then
+        self%s%val = sstar%val(self%s_perm)
+        self%t_smat = wall_time() - t0
+        select type (q => self%bp%s(phys%bu)%p)
+        type is (boomeramg_precon_t)
+          call q%update(self%s, status)
+          self%t_sprec = q%setup_time
+        end select
+        return
+      end if
+    end if
     call self%s%free()
     call to_csr(sstar, phys%mech%u%map, self%s)
+    call csr_positions(sstar, self%s, self%s_perm)
+    self%s_rowptr = sstar%row_ptr
+    self%s_gcol = sstar%gcol(1:sstar%nnz())
     self%nnz_schur = self%s%global_nnz()
     params%amg = amg
     ! S* has K's near-null space: the rigid-body modes, where asked (&amg)
@@ -560,6 +582,7 @@ contains
     self%variant = ''
     self%p_eliminated = .false.
     if (allocated(self%built_state)) deallocate(self%built_state)
+    if (allocated(self%s_perm)) deallocate(self%s_perm, self%s_rowptr, self%s_gcol)
     self%reused = 0
   end subroutine free
 end module contact_precon
