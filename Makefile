@@ -117,6 +117,7 @@ bench: deps
 	@bash bench/run_bench_contact.sh
 	@bash bench/run_bench_flow.sh
 	@bash bench/run_bench_peers.sh
+	@bash bench/run_bench_scaling.sh
 
 clean:
 	rm -rf build bin

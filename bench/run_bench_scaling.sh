@@ -9,8 +9,9 @@
 #            preconditioner to 1e-8 (as bench/run_bench_contact.sh makes it)
 # (the AMG alone, CG + BoomerAMG on the cube of 823,875 unknowns on 1 and 2
 # ranks, is in bench/run_bench.sh's table)
-# Per case and rank count: iterations, preconditioner set-up, linear solve,
-# assembly, total, peak resident memory of a rank; then the speed-up
+# Per case and rank count: iterations, mesh (made and partitioned on rank
+# 0), assembly, preconditioner set-up, linear solve, total, peak resident
+# memory of a rank; then the speed-up
 # total(1) / total(N) and the parallel efficiency speed-up / N.
 # Usage: bench/run_bench_scaling.sh [cases] [ranks]
 set -u
@@ -21,8 +22,8 @@ ranks=${2:-"1 2"}
 out=build/bench/scaling
 mkdir -p "$out"
 table=build/bench/scaling.md
-echo "| case | ranks | iterations | set-up [s] | solve [s] | assembly [s] | total [s] | speed-up | efficiency | peak memory of a rank [MB] |" > "$table"
-echo "|---|---|---|---|---|---|---|---|---|---|" >> "$table"
+echo "| case | ranks | iterations | mesh [s] | assembly [s] | set-up [s] | solve [s] | total [s] | speed-up | efficiency | peak memory of a rank [MB] |" > "$table"
+echo "|---|---|---|---|---|---|---|---|---|---|---|" >> "$table"
 
 deck() {  # case -> deck on stdout
   case $1 in
@@ -53,22 +54,23 @@ for c in $cases; do
     mpirun -np "$np" bin/geoblock "$out/$name.nml" > "$out/$name.log" 2>&1 < /dev/null
     log=$out/$name.log
     if ! grep -q '^timing summary' "$log"; then
-      echo "| $c | $np | failed: $(grep -m1 -i 'error' "$log" | cut -c1-100) | | | | | | | |" | tee -a "$table"
+      echo "| $c | $np | failed: $(grep -m1 -i 'error' "$log" | cut -c1-100) | | | | | | | | |" | tee -a "$table"
       continue
     fi
     case $c in
       contact) its=$(grep -E '^  newton' "$log" | awk '{printf "%s ", $5}' | sed 's/ $//') ;;
-      *)       its=$(grep -m1 -E '^step 1' "$log" | sed -E 's/.*iterations +([0-9]+).*/\1/') ;;
+      *)       its=$(grep -m1 -E '^step +1 ' "$log" | sed -E 's/.*iterations +([0-9]+).*/\1/') ;;
     esac
     setup=$(summary "$log" 'preconditioner set-up')
     solve=$(summary "$log" 'linear solve')
     asm=$(summary "$log" 'assembly')
+    mesh=$(summary "$log" 'mesh')
     total=$(summary "$log" 'total')
     mem=$(grep -m1 '^peak resident memory' "$log" | sed -E 's/peak resident memory: ([0-9]+) MB on the largest rank.*/\1/')
     [ -z "$t1" ] && t1=$total
     sp=$(awk -v a="$t1" -v b="$total" 'BEGIN {printf "%.2f", a / b}')
     eff=$(awk -v a="$t1" -v b="$total" -v n="$np" -v n1="${ranks%% *}" 'BEGIN {printf "%.2f", a / b * n1 / n}')
-    echo "| $c | $np | $its | $setup | $solve | $asm | $total | $sp | $eff | $mem |" | tee -a "$table"
+    echo "| $c | $np | $its | $mesh | $asm | $setup | $solve | $total | $sp | $eff | $mem |" | tee -a "$table"
   done
 done
 echo "table: $table"
