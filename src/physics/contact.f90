@@ -88,6 +88,7 @@ module contact
     integer, allocatable :: state(:)
     integer, allocatable :: flips(:)               !< stick <-> slip changes of the element in this step
     integer(gp), allocatable :: held(:)            !< per fault (of faults(:)): elements held in their status at the last update
+    integer(gp), allocatable :: held_open(:)       !< the same, held between open and closed
     real(rp), allocatable :: trac(:,:), trac_step(:,:)     !< (3,n) local-frame traction [Pa]
     real(rp), allocatable :: jump(:,:), jump_step(:,:)     !< (3,n) local-frame mean jump [m]
     ! stabilization edges
@@ -789,7 +790,7 @@ contains
     class(contact_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), intent(in) :: tol                    !< relative tolerance of the checks
-    !> stick <-> slip changes of one element in a step before it is held
+    !> status changes of one element in a step before it is held
     integer, parameter :: max_flips = 4
     integer :: f
     type(parallel_comm_t) :: comm
@@ -809,8 +810,9 @@ contains
     t_ref = comm%max(t_ref)
     g_ref = max(comm%max(g_ref), 1.0e-9_rp * self%length)
     changed = 0
-    if (.not. allocated(self%held)) allocate(self%held(size(self%faults)))
+    if (.not. allocated(self%held)) allocate(self%held(size(self%faults)), self%held_open(size(self%faults)))
     self%held = 0
+    self%held_open = 0
     do e = 1, nown
       new = self%state(e)
       tau = self%coh(e) - self%fric(e) * self%trac(1, e)
@@ -832,12 +834,20 @@ contains
       case (state_open)
         if (self%jump(1, e) < -tol * g_ref) new = state_stick
       end select
-      ! an element that went stick <-> slip max_flips times in this step sits
-      ! on the friction limit within the tolerances: it keeps its status
-      if (new /= self%state(e) .and. new /= state_open .and. self%state(e) /= state_open) then
+      ! an element that changed max_flips times in this step sits on the
+      ! friction limit (stick <-> slip) or at the opening (open <-> closed:
+      ! t_N and g_N both zero) within the tolerances: it keeps its status.
+      ! (Without the cap on the opening, one element of the seed's nine
+      ! fractures at 1 m cells went open, stick, open, ... through 20 Newton
+      ! iterations and the step was cut twice.)
+      if (new /= self%state(e)) then
         if (self%flips(e) >= max_flips) then
+          if (new == state_open .or. self%state(e) == state_open) then
+            self%held_open(self%fault(e)) = self%held_open(self%fault(e)) + 1
+          else
+            self%held(self%fault(e)) = self%held(self%fault(e)) + 1
+          end if
           new = self%state(e)
-          self%held(self%fault(e)) = self%held(self%fault(e)) + 1
         else
           self%flips(e) = self%flips(e) + 1
         end if
@@ -848,6 +858,7 @@ contains
     changed = comm%sum(changed)
     do f = 1, size(self%held)
       self%held(f) = comm%sum(self%held(f))
+      self%held_open(f) = comm%sum(self%held_open(f))
     end do
     allocate(st(mesh%n_ifaces))
     st = real(self%state, rp)
@@ -955,7 +966,7 @@ contains
     if (allocated(self%s)) deallocate(self%s)
     if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, &
                                                  self%fault, self%flips)
-    if (allocated(self%held)) deallocate(self%held)
+    if (allocated(self%held)) deallocate(self%held, self%held_open)
     if (allocated(self%trac)) deallocate(self%trac, self%trac_step, self%jump, self%jump_step)
     call self%edges%free()
     if (allocated(self%eb)) deallocate(self%eb)

@@ -453,6 +453,9 @@ contains
       if (self%phys%held(f) > 0) call log%warn("fault '"//trim(self%phys%faults(f)%name)//"': "// &
         itoa(int(self%phys%held(f)))//' element(s) went between stick and slip 4 times in this step and '// &
         'were held in their status (they sit on the friction limit within &contact status_tol)')
+      if (self%phys%held_open(f) > 0) call log%warn("fault '"//trim(self%phys%faults(f)%name)//"': "// &
+        itoa(int(self%phys%held_open(f)))//' element(s) went between open and closed 4 times in this step and '// &
+        'were held in their status (they sit at the opening, t_N and g_N zero within &contact status_tol)')
     end do
   end subroutine warn_held
 
