@@ -245,7 +245,12 @@ contains
   !> Arnoldi step j: z_j = M^-1 v_j, w = A z_j orthogonalized against
   !> v_1..v_j by classical Gram-Schmidt (twice when the norm drops below
   !> reorth_drop). h(1:j+1, j) gets the coefficients, hnorm = ||w||, wnorm0 the
-  !> norm of A z_j (from the coefficients, Pythagoras: saves a reduction).
+  !> norm of A z_j. Each pass's reduction carries the squared norm of the
+  !> vector it projects (wnorm0 comes with the first); the norm after the
+  !> first pass, needed only for the test, is sqrt(||w||^2 - ||c||^2)
+  !> (Pythagoras), and with reorth_drop >= 1 (the default: always twice) it
+  !> is not needed at all. Three reductions per step with two passes, where
+  !> a norm per pass took five.
   !> finite is false when NaN or Inf appeared (then nothing is compared).
   subroutine arnoldi_step(self, a, m, j, v, z, h, w, wnorm0, hnorm, finite)
     class(fgmres_t), intent(in) :: self
@@ -255,41 +260,48 @@ contains
     real(rp), intent(inout) :: v(:,:), z(:,:), h(:,:), w(:)
     real(rp), intent(out) :: wnorm0, hnorm
     logical, intent(out) :: finite
-    real(rp) :: c(j)
+    real(rp) :: c(j), ww
+    logical :: second
 
     call m%apply(v(:, j), z(:, j))
     call a%apply(z(:, j), w)
-    wnorm0 = pnorm2(self%comm, w)
-    call project_out(self, v, j, w, h(1:j, j))
-    hnorm = pnorm2(self%comm, w)
-    finite = ieee_is_finite(wnorm0) .and. ieee_is_finite(hnorm)
+    call project_out(self, v, j, w, h(1:j, j), ww)
+    wnorm0 = sqrt(max(ww, 0.0_rp))
+    finite = ieee_is_finite(ww) .and. all(ieee_is_finite(h(1:j, j)))
     if (.not. finite) return
-    if (self%reorthogonalize .and. hnorm < self%reorth_drop * wnorm0) then
-      call project_out(self, v, j, w, c)
+    second = self%reorthogonalize
+    if (second .and. self%reorth_drop < 1.0_rp) &
+      second = sqrt(max(ww - sum(h(1:j, j)**2), 0.0_rp)) < self%reorth_drop * wnorm0
+    if (second) then
+      call project_out(self, v, j, w, c, ww)
       h(1:j, j) = h(1:j, j) + c
-      hnorm = pnorm2(self%comm, w)
-      finite = ieee_is_finite(hnorm)
-      if (.not. finite) return
     end if
+    hnorm = pnorm2(self%comm, w)
+    finite = ieee_is_finite(hnorm)
+    if (.not. finite) return
     h(j+1, j) = hnorm
   end subroutine arnoldi_step
 
-  !> One pass of classical Gram-Schmidt against v(:, 1:j): c = V^T w (one
-  !> reduction for all j products, BLAS-2 locally), w = w - V c. Two passes
-  !> of it are as good as modified Gram-Schmidt with re-orthogonalization
-  !> ("twice is enough", Giraud, Langou and Rozloznik, Comput. Math. Appl. 50
-  !> (2005)), with j times fewer reductions.
-  subroutine project_out(self, v, j, w, c)
+  !> One pass of classical Gram-Schmidt against v(:, 1:j): c = V^T w and
+  !> ww = w . w in one reduction (BLAS-2 locally), then w = w - V c. Two
+  !> passes of it are as good as modified Gram-Schmidt with
+  !> re-orthogonalization ("twice is enough", Giraud, Langou and Rozloznik,
+  !> Comput. Math. Appl. 50 (2005)), with j times fewer reductions.
+  subroutine project_out(self, v, j, w, c, ww)
     class(fgmres_t), intent(in) :: self
     real(rp), intent(in) :: v(:,:)
     integer, intent(in) :: j
     real(rp), intent(inout) :: w(:)
-    real(rp), intent(out) :: c(:)
+    real(rp), intent(out) :: c(:), ww
+    real(rp) :: cw(j + 1)
     integer :: n
     n = size(w)
-    c = 0.0_rp
-    if (n > 0) call dgemv('T', n, j, 1.0_rp, v, size(v, 1), w, 1, 0.0_rp, c, 1)
-    call self%comm%sum_all(c)
+    cw = 0.0_rp
+    if (n > 0) call dgemv('T', n, j, 1.0_rp, v, size(v, 1), w, 1, 0.0_rp, cw, 1)
+    cw(j + 1) = dot_product(w, w)
+    call self%comm%sum_all(cw)
+    c = cw(1:j)
+    ww = cw(j + 1)
     if (n > 0) call dgemv('N', n, j, -1.0_rp, v, size(v, 1), c, 1, 1.0_rp, w, 1)
   end subroutine project_out
 
