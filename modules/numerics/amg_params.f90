@@ -94,6 +94,7 @@ module amg_params
     procedure :: interp_id
     procedure :: agg_interp_id
     procedure :: relax_ids
+    procedure :: scalar
   end type amg_params_t
 
   character(len=*), parameter :: coarsen_names = 'cljp, ruge-stueben, falgout, pmis, hmis'
@@ -105,6 +106,16 @@ module amg_params
     'jacobi, hybrid-gs, hybrid-sgs, l1-sgs, l1-gs, chebyshev, l1-jacobi'
 
 contains
+
+  !> The same settings for a scalar operator (one unknown per row: Schur
+  !> complements, pressure Laplacians): num_functions 1 and a strength
+  !> threshold of 0.25.
+  type(amg_params_t) function scalar(self) result(a)
+    class(amg_params_t), intent(in) :: self
+    a = self
+    a%num_functions = 1
+    a%strong_threshold = 0.25_rp
+  end function scalar
 
   !> Range-check every field; the first bad one is reported in status by
   !> name, value and accepted range. Not collective.

@@ -129,9 +129,7 @@ contains
       call log%info('linear solver: fgmres + block preconditioner ('//trim(self%solver%decoupling)//' factors, '// &
                     trim(self%solver%block_mode)//', Schur '//trim(self%solver%schur)//')')
     end if
-    self%amg_s = self%amg
-    self%amg_s%num_functions = 1
-    self%amg_s%strong_threshold = 0.25_rp
+    self%amg_s = self%amg%scalar()
     allocate(self%dscale(size(self%phys%rhs)))
     self%dscale = 1.0_rp
   end subroutine setup

@@ -229,9 +229,7 @@ contains
     call to_csr(negs, phys%t%map, self%s)
     self%nnz_schur = self%s%global_nnz()
     ! -S is a scalar (one unknown per row) operator
-    params%amg = amg
-    params%amg%num_functions = 1
-    params%amg%strong_threshold = 0.25_rp
+    params%amg = amg%scalar()
     self%t_smat = wall_time() - t0
     call make_and_setup(ccfg%schur_precon, p, self%s, params, status)
     if (.not. status%ok()) return
@@ -267,16 +265,16 @@ contains
     if (self%p_eliminated) call eliminate_pressure(self, phys, sstar)
     ! the same pattern as the last S* (it is: C2's pattern is fixed), its
     ! BoomerAMG plain: new values into the same matrix and hierarchy update
-    if (ccfg%schur_solve /= 'inner_cg' .and. allocated(self%s_perm)) then
+    if (allocated(self%s_perm)) then
       if (.not. mesh%comm%any_true(.not. same_pattern(sstar, self%s_rowptr, self%s_gcol))) then
-        self%s%val = sstar%val(self%s_perm)
-        self%t_smat = wall_time() - t0
         select type (q => self%bp%s(phys%bu)%p)
         type is (boomeramg_precon_t)
+          self%s%val = sstar%val(self%s_perm)
+          self%t_smat = wall_time() - t0
           call q%update(self%s, status)
           self%t_sprec = q%setup_time
+          return
         end select
-        return
       end if
     end if
     call self%s%free()
@@ -330,6 +328,7 @@ contains
     real(rp), allocatable :: zval(:), yval(:)
     integer(ip) :: t0, t1, p0, p1, e, k, c, n, kt
     type(precon_params_t) :: params
+    class(precon_t), allocatable :: p
     call phys%sys%block_range(phys%bt, t0, t1)
     call phys%sys%block_range(phys%bp, p0, p1)
     call self%lsub%free()
@@ -364,15 +363,10 @@ contains
         ptr(e + 1) = k + 1
       end do
     end associate
-    params%amg = amg
-    params%amg%num_functions = 1
-    params%amg%strong_threshold = 0.25_rp
-    if (allocated(self%plsub)) then
-      call self%plsub%free()
-      deallocate(self%plsub)
-    end if
-    call make_and_setup('boomeramg', self%plsub, self%lsub, params, status)
+    params%amg = amg%scalar()
+    call make_and_setup('boomeramg', p, self%lsub, params, status)
     if (.not. status%ok()) return
+    call replace(self%plsub, p)
     idx = idx(1:k)
     zval = zval(1:k)
     yval = yval(1:k)
@@ -462,9 +456,7 @@ contains
     call self%sp%free()
     call to_csr(sp, phys%pd%map, self%sp)
     self%nnz_pressure = self%sp%global_nnz()
-    params%amg = amg
-    params%amg%num_functions = 1
-    params%amg%strong_threshold = 0.25_rp
+    params%amg = amg%scalar()
     call make_and_setup(choice, p, self%sp, params, status)
     if (.not. status%ok()) return
     call replace(self%bp%s(phys%bp)%p, p)
