@@ -87,6 +87,7 @@ module contact
     integer, allocatable :: fault(:)               !< index of the element's fault in faults(:)
     integer, allocatable :: state(:)
     integer, allocatable :: flips(:)               !< stick <-> slip changes of the element in this step
+    logical, allocatable :: fresh(:)               !< slipping since the last status update (was stick)
     integer(gp), allocatable :: held(:)            !< per fault (of faults(:)): elements held in their status at the last update
     integer(gp), allocatable :: held_open(:)       !< the same, held between open and closed
     real(rp), allocatable :: trac(:,:), trac_step(:,:)     !< (3,n) local-frame traction [Pa]
@@ -209,8 +210,9 @@ contains
     if (self%flow) call flow_init(self, mesh, conn8, self_conn, fcfg, wells, pbcs)
 
     ! fault properties and initial state
-    allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%fault(n), self%flips(n))
+    allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%fault(n), self%flips(n), self%fresh(n))
     self%flips = 0
+    self%fresh = .false.
     do e = 1, n
       f = fault_index(self, mesh, mesh%iface_fault(e))
       self%fault(e) = f
@@ -601,6 +603,7 @@ contains
     self%trac_step = self%trac
     self%jump_step = self%jump
     self%flips = 0
+    self%fresh = .false.
     do i = 1, self%mech%u%n_local()
       if (self%mech%fixed(i)) self%u(i) = lf * self%mech%prescribed_value(i)
     end do
@@ -650,7 +653,15 @@ contains
           ! set cycled). Before any increment of the step (dg = 0) the
           ! direction is held (jt = 0, t_T = tau t_T/|t_T|): the exact
           ! derivative there, rank one in t_T, cost the reordered
-          ! preconditioner 3x its iterations.
+          ! preconditioner 3x its iterations. So is it in the first iteration
+          ! of an element that was stick (fresh): its dg is the stick
+          ! solution's stabilization allowance, |z| is about tau when the
+          ! load crossed the limit gently, and the exact derivative then
+          ! constrains the slip across the direction, t_T's component there a
+          ! multiplier with no stabilization (Q1-P0 unstable, the count grows
+          ! with refinement). Seed's nine fractures, first iteration after
+          ! slip starts (step 3, Newton 2), FGMRES its at 4, 2, 1 m cells:
+          ! 58, 116, 185 with the exact derivative; 26, 29, ... held.
           cz = self%area(e) / self%s(e)
           z = self%trac(2:3, e) + cz * dg
           nrm = norm2(z)
@@ -662,7 +673,7 @@ contains
           r(2:3) = -self%s(e) * (self%trac(2:3, e) - tau * dd)
           hb(2, 2) = -self%s(e)
           hb(3, 3) = -self%s(e)
-          if (nrm > 0.0_rp .and. any(dg /= 0.0_rp)) then
+          if (nrm > 0.0_rp .and. any(dg /= 0.0_rp) .and. .not. self%fresh(e)) then
             hb(2:3, 2:3) = hb(2:3, 2:3) + self%s(e) * tau / nrm * p2
             jt(2:3, :) = self%s(e) * tau * cz / (nrm * self%area(e)) * matmul(p2, be(2:3, :))
           end if
@@ -853,6 +864,7 @@ contains
         end if
       end if
       if (new /= self%state(e)) changed = changed + 1
+      self%fresh(e) = new == state_slip .and. self%state(e) == state_stick
       self%state(e) = new
     end do
     changed = comm%sum(changed)
@@ -965,7 +977,7 @@ contains
     if (allocated(self%area)) deallocate(self%area, self%wn, self%rot)
     if (allocated(self%s)) deallocate(self%s)
     if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, &
-                                                 self%fault, self%flips)
+                                                 self%fault, self%flips, self%fresh)
     if (allocated(self%held)) deallocate(self%held, self%held_open)
     if (allocated(self%trac)) deallocate(self%trac, self%trac_step, self%jump, self%jump_step)
     call self%edges%free()
