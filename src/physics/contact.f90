@@ -661,7 +661,9 @@ contains
           ! multiplier with no stabilization (Q1-P0 unstable, the count grows
           ! with refinement). Seed's nine fractures, first iteration after
           ! slip starts (step 3, Newton 2), FGMRES its at 4, 2, 1 m cells:
-          ! 58, 116, 185 with the exact derivative; 26, 29, ... held.
+          ! 58, 116, 185 with the exact derivative; 26, 29, 32 held. The
+          ! step may need one Newton iteration more (1 m: 8 against 7), but
+          ! fewer iterations in all (2 m, step 3: 242 FGMRES its against 325).
           cz = self%area(e) / self%s(e)
           z = self%trac(2:3, e) + cz * dg
           nrm = norm2(z)
