@@ -109,7 +109,8 @@ contains
     type(error_status_t), intent(inout) :: status
     type(mesh_pieces_t) :: pieces
     self%mesh => mesh
-    call self%phys%init(mesh, self%mats, self%bcs, self%srcs, self%bcfg%beta(), status)
+    call self%phys%init(mesh, self%mats, self%bcs, self%srcs, self%bcfg%beta(), self%bcfg%stab_mode == 'adaptive', &
+                        status)
     call agree(self%comm, status)
     if (.not. status%ok()) return
     call pieces%build(mesh)
