@@ -108,13 +108,17 @@ module amg_params
 contains
 
   !> The same settings for a scalar operator (one unknown per row: Schur
-  !> complements, pressure Laplacians): num_functions 1 and a strength
-  !> threshold of 0.25.
+  !> complements, pressure Laplacians): num_functions 1, a strength
+  !> threshold of 0.25, and neither nodal coarsening nor interpolation
+  !> vectors (a scalar operator has no node systems and no rigid-body modes;
+  !> kept from an elastic &amg, they made the copy invalid for hypre).
   type(amg_params_t) function scalar(self) result(a)
     class(amg_params_t), intent(in) :: self
     a = self
     a%num_functions = 1
     a%strong_threshold = 0.25_rp
+    a%nodal = 0
+    a%interp_vec_variant = 0
   end function scalar
 
   !> Range-check every field; the first bad one is reported in status by
