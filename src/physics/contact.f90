@@ -64,10 +64,12 @@ module contact
   implicit none
   private
 
-  public :: contact_t, state_stick, state_slip, state_open, state_names
+  public :: contact_t, state_stick, state_slip, state_open, state_names, max_flips
 
   integer, parameter :: state_stick = 1, state_slip = 2, state_open = 3
   character(len=5), parameter :: state_names(3) = ['stick', 'slip ', 'open ']
+  !> status changes of one element in a step before it is held (update_states)
+  integer, parameter :: max_flips = 4
   real(rp), parameter :: deg = acos(-1.0_rp) / 180.0_rp
 
   type :: contact_t
@@ -86,7 +88,7 @@ module contact
     real(rp), allocatable :: fric(:), coh(:), pres(:)      !< tan(phi), cohesion [Pa], fluid pressure [Pa]
     integer, allocatable :: fault(:)               !< index of the element's fault in faults(:)
     integer, allocatable :: state(:)
-    integer, allocatable :: flips(:)               !< stick <-> slip changes of the element in this step
+    integer, allocatable :: flips(:)               !< status changes of the element in this step (any)
     logical, allocatable :: fresh(:)               !< slipping since the last status update (was stick)
     integer(gp), allocatable :: held(:)            !< per fault (of faults(:)): elements held in their status at the last update
     integer(gp), allocatable :: held_open(:)       !< the same, held between open and closed
@@ -641,7 +643,9 @@ contains
         case (state_slip)
           jt(1, :) = be(1, :)
           r(1) = self%area(e) * self%jump(1, e)
-          tau = self%coh(e) - self%fric(e) * self%trac(1, e)
+          ! the friction limit, zero where t_N > 0 (within status_tol) would
+          ! make it negative
+          tau = max(self%coh(e) - self%fric(e) * self%trac(1, e), 0.0_rp)
           dg = self%jump(2:3, e) - self%jump_step(2:3, e)
           hb = 0.0_rp
           ! semi-smooth Newton on t_T = tau z / |z|, z = t_T + c dg with
@@ -679,7 +683,7 @@ contains
             hb(2:3, 2:3) = hb(2:3, 2:3) + self%s(e) * tau / nrm * p2
             jt(2:3, :) = self%s(e) * tau * cz / (nrm * self%area(e)) * matmul(p2, be(2:3, :))
           end if
-          hb(2:3, 1) = -self%s(e) * self%fric(e) * dd
+          if (tau > 0.0_rp) hb(2:3, 1) = -self%s(e) * self%fric(e) * dd
           call jtt%add_block(cols, cols, hb)
         case (state_open)
           r = -self%s(e) * self%trac(:, e)
@@ -803,8 +807,6 @@ contains
     class(contact_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), intent(in) :: tol                    !< relative tolerance of the checks
-    !> status changes of one element in a step before it is held
-    integer, parameter :: max_flips = 4
     integer :: f
     type(parallel_comm_t) :: comm
     real(rp) :: t_ref, g_ref, tau, dg(2)
@@ -828,7 +830,7 @@ contains
     self%held_open = 0
     do e = 1, nown
       new = self%state(e)
-      tau = self%coh(e) - self%fric(e) * self%trac(1, e)
+      tau = max(self%coh(e) - self%fric(e) * self%trac(1, e), 0.0_rp)
       dg = self%jump(2:3, e) - self%jump_step(2:3, e)
       select case (self%state(e))
       case (state_stick)

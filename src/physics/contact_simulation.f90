@@ -25,7 +25,7 @@ module contact_simulation
   use field_output, only: field_output_t
   use probe_fields, only: probe_fields_t, scalar_name_len
   use fracture_output, only: fracture_output_t
-  use contact, only: contact_t, state_open, state_slip
+  use contact, only: contact_t, state_open, state_slip, max_flips
   use mesh_pieces, only: mesh_pieces_t
   use contact_precon, only: contact_precon_t
   use mgr_precon, only: mgr_precon_t, mgr_contact, mgr_flow
@@ -443,7 +443,8 @@ contains
   end subroutine update
 
   !> Per fault, the elements the active set held in their status in this
-  !> step (they went between stick and slip max_flips times, contact.f90).
+  !> step: max_flips status changes (contact.f90), the blocked one between
+  !> stick and slip (held) or to or from open (held_open).
   subroutine warn_held(self, log)
     type(contact_simulation_t), intent(in) :: self
     type(logger_t), intent(inout) :: log
@@ -451,11 +452,12 @@ contains
     if (.not. allocated(self%phys%held)) return
     do f = 1, size(self%phys%held)
       if (self%phys%held(f) > 0) call log%warn("fault '"//trim(self%phys%faults(f)%name)//"': "// &
-        itoa(int(self%phys%held(f)))//' element(s) went between stick and slip 4 times in this step and '// &
-        'were held in their status (they sit on the friction limit within &contact status_tol)')
+        itoa(int(self%phys%held(f)))//' element(s) changed status '//itoa(max_flips)//' times in this step and '// &
+        'were held in it (stick <-> slip: they sit on the friction limit within &contact status_tol)')
       if (self%phys%held_open(f) > 0) call log%warn("fault '"//trim(self%phys%faults(f)%name)//"': "// &
-        itoa(int(self%phys%held_open(f)))//' element(s) went between open and closed 4 times in this step and '// &
-        'were held in their status (they sit at the opening, t_N and g_N zero within &contact status_tol)')
+        itoa(int(self%phys%held_open(f)))//' element(s) changed status '//itoa(max_flips)//' times in this step and '// &
+        'were held in it (open <-> closed: they sit at the opening, t_N and g_N zero within &contact '// &
+        'status_tol)')
     end do
   end subroutine warn_held
 

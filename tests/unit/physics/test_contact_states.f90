@@ -31,7 +31,7 @@ program test_contact_states
   use boundary_config, only: boundary_config_t, read_boundaries
   use mesh_builder, only: build_mesh
   use dist_mesh, only: dist_mesh_t
-  use contact, only: contact_t, state_stick, state_slip, state_open, state_names
+  use contact, only: contact_t, state_stick, state_slip, state_open, state_names, max_flips
   use strings, only: itoa
   use assertions, only: test_suite_t
   use deck_files, only: write_lines
@@ -60,7 +60,6 @@ program test_contact_states
   real(rp), parameter :: g0 = 1.0e-3_rp             !< opening of open_wide [m]: the largest |jump|, so g_ref
   real(rp), parameter :: dir(2) = [0.6_rp, 0.8_rp]  !< direction of the tangential tractions and slips
   real(rp), parameter :: pi = acos(-1.0_rp)
-  integer, parameter :: max_flips = 4               !< contact.f90's cap
   !> the cap's roles (by original id): 0 stays open and wide (g_ref), 1 cycles stick <-> slip, 2 open <-> stick
   integer, parameter :: role_start(0:2) = [state_open, state_stick, state_open]
 
@@ -174,6 +173,26 @@ program test_contact_states
     ! 21 cycling elements (original ids 2, 5, ..., 32 and 3, 6, ..., 30)
     call check(trim(label), changed, merge(0, 21, k == max_flips + 1))
   end do
+
+  ! ---- the friction limit is never negative -------------------------------------------------------
+  ! friction 60 degrees, no cohesion, every element stick in slight tension
+  ! within the tolerance (t_N = 0.9 tol t_ref, t_ref from one element at
+  ! -t0) and no shear: tau = -tan(phi) t_N would be -1.56 tol t_ref, below
+  ! |t_T| = 0 by more than the tolerance, and the elements went to slip
+  call ct%begin_step(1.0_rp)
+  ct%fric = tan(60.0_rp * pi / 180.0_rp)
+  ct%coh = 0.0_rp
+  ct%state = state_stick
+  ct%trac = 0.0_rp
+  ct%trac(1, :) = 0.9_rp * tol * t0
+  ct%jump = 0.0_rp
+  ct%jump_step = 0.0_rp
+  do e = 1, dm%n_ifaces
+    if (dm%iface_orig(e) == 1) ct%trac(1, e) = -t0
+  end do
+  changed = ct%update_states(dm, tol)
+  call suite%assert_true(changed == 0 .and. all(ct%state == state_stick), &
+    'no shear, t_N > 0 within the tolerance, friction 60 degrees, no cohesion: stays stick (tau >= 0)')
 
   call ct%free()
   call dm%free()
