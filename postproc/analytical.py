@@ -767,6 +767,17 @@ class Cryer:
     that bound times 2 exp(-(N pi)^2 T) / (1 - exp(-2 N pi^2 T)): absolute
     truncation error < tol * p0 (pressure), < tol * b R p0 / K_v
     (displacement's series). More than max_terms raises ValueError.
+
+    Time-discrete solution (argument dt of pressure, displacement, ...): the
+    problem is linear with a load constant from t = 0+, and its modes
+    evolve independently (the generalized eigenproblem of the mass balance
+    with the mean-pressure term), so implicit Euler with constant steps dt
+    from the undrained state turns exp(-xi_n^2 T) into (1 + xi_n^2 dT)^(-n),
+    dT = c dt/R^2, after n = t/dt steps: the solution a discretization exact
+    in space would give, against which a run with the same steps shows its
+    spatial error alone. Its tail from root N on is below the same cbar
+    times 2 (1 + y)^(-n) (1 + N/(2 a n - 1)), y = (N pi)^2 dT,
+    a = y/(1 + y) (as 1 + y (k/N)^2 >= (1 + y) (k/N)^(2a) for k >= N).
     """
 
     def __init__(self, params, R, S, max_terms=1_000_000):
@@ -809,24 +820,34 @@ class Cryer:
         e = self.eta
         return 2.0 * (1.0 + e) * xi / ((e - 2.0) * np.sin(xi) - (1.0 + e) * xi * np.cos(xi))
 
-    def _nterms(self, T, tol):
-        """Roots needed at time factor T > 0 (see the class docstring)."""
+    def _nterms(self, T, tol, dT=None):
+        """Roots needed at time factor T > 0, or after T/dT implicit Euler
+        steps of dT (see the class docstring)."""
         kb = (1.0 + self.eta) * self.beta
+
+        def cbar(x):          # bound on |C_k| for xi_k >= x, (1 + eta) beta x^2 >= 6
+            return 4.0 * (1.0 + 1.0 / (self.beta * x) + 1.0 / (self.beta * x * x))
 
         def tail(n):          # bound on the terms from root n on (pressure: |j0 - j0| <= 2)
             x = n * math.pi
-            cbar = 4.0 * (1.0 + 1.0 / (self.beta * x) + 1.0 / (self.beta * x * x))
-            return 2.0 * cbar * math.exp(-x * x * T) / -math.expm1(-2.0 * n * math.pi ** 2 * T)
+            if dT is None:
+                return 2.0 * cbar(x) * math.exp(-x * x * T) / -math.expm1(-2.0 * n * math.pi ** 2 * T)
+            steps = T / dT
+            y = x * x * dT
+            alpha = y / (1.0 + y)
+            if 2.0 * alpha * steps <= 1.0:
+                return math.inf
+            return 2.0 * cbar(x) * math.exp(-steps * math.log1p(y)) * (1.0 + n / (2.0 * alpha * steps - 1.0))
         n = max(1, int(math.ceil(math.sqrt(6.0 / kb) / math.pi)))
         n = max(n, int(math.sqrt(max(math.log(8.0 / tol), 1.0) / T) / math.pi))
         while tail(n) >= tol:
             n += max(1, n // 50)
-        if n > self.max_terms:
-            raise ValueError(f"Cryer: time factor T = {T:.3e} needs {n} series terms "
-                             f"(> max_terms = {self.max_terms})")
+            if n > self.max_terms:
+                raise ValueError(f"Cryer: time factor T = {T:.3e} needs more than max_terms = "
+                                 f"{self.max_terms} series terms")
         return n
 
-    def _prepare(self, r, t):
+    def _prepare(self, r, t, dt):
         r, t = np.broadcast_arrays(np.asarray(r, dtype=float), np.asarray(t, dtype=float))
         shape = r.shape
         rho = r.ravel() / self.R
@@ -835,24 +856,33 @@ class Cryer:
             raise ValueError("Cryer: r must lie in [0, R]")
         if np.any(T < 0) or not np.all(np.isfinite(T)):
             raise ValueError("Cryer: t must be finite and >= 0")
+        if dt is not None:
+            steps = t.ravel() / dt
+            if not dt > 0 or np.any(np.abs(steps - np.round(steps)) > 1e-9 * np.maximum(steps, 1.0)):
+                raise ValueError("Cryer: with dt, t must be a multiple of dt > 0")
         return np.clip(rho, 0.0, 1.0), T, shape
 
-    def _series(self, rho, T, tol, kinds):
+    def _series(self, rho, T, tol, kinds, dt=None):
         """Sums over the roots at flat arrays rho, T (T > 0); kinds: 'p'
         (sum C (j0(xi rho) - j0(xi)) E), 'u' (sum C E ((sin x - x cos x)
         / (xi^3 rho^2) - j0(xi) rho/3)), 'mean' (sum C E (jbar0(xi) - j0(xi)),
-        jbar0 = 3 (sin xi - xi cos xi)/xi^3, the volume mean of p/p0)."""
+        jbar0 = 3 (sin xi - xi cos xi)/xi^3, the volume mean of p/p0);
+        E = exp(-xi^2 T), or (1 + xi^2 dT)^(-T/dT) with dT = c dt/R^2."""
         out = {k: np.zeros_like(rho) for k in kinds}
         if rho.size == 0:
             return out
-        N = self._nterms(float(T.min()), tol)
+        dT = None if dt is None else float(self.time_factor(dt))
+        N = self._nterms(float(T.min()), tol, dT)
         xi = self.roots(N)
         C = self.coefficients(N)
         j0 = np.sin(xi) / xi
         chunk = max(1, 1_000_000 // rho.size)
         for i0 in range(0, N, chunk):
             a, cc, jj = xi[i0:i0 + chunk], C[i0:i0 + chunk], j0[i0:i0 + chunk]
-            E = np.exp(-np.outer(T, a * a)) * cc             # (points, roots)
+            if dT is None:
+                E = np.exp(-np.outer(T, a * a)) * cc          # (points, roots)
+            else:
+                E = np.exp(-np.outer(np.round(T / dT), np.log1p(a * a * dT))) * cc
             x = np.outer(rho, a)
             if "p" in out:
                 with np.errstate(invalid="ignore", divide="ignore"):
@@ -866,36 +896,39 @@ class Cryer:
                 out["mean"] += E @ (3.0 * _sin_minus_xcos(a) / a ** 3 - jj)
         return out
 
-    def pressure(self, r, t, tol=1e-12):
-        """Pore pressure p(r, t), Pa; r in [0, R] (m), t >= 0 (s), broadcast."""
-        rho, T, shape = self._prepare(r, t)
+    def pressure(self, r, t, tol=1e-12, dt=None):
+        """Pore pressure p(r, t), Pa; r in [0, R] (m), t >= 0 (s), broadcast.
+        dt [s]: instead, the implicit Euler solution after t/dt steps of dt
+        (t a multiple of dt; see the class docstring)."""
+        rho, T, shape = self._prepare(r, t, dt)
         P = np.where(rho < 1.0, 1.0, 0.0)                  # t = 0
         pos = T > 0
-        P[pos] = self._series(rho[pos], T[pos], tol, ["p"])["p"]
+        P[pos] = self._series(rho[pos], T[pos], tol, ["p"], dt)["p"]
         return (self.p0 * P).reshape(shape)
 
-    def centre_pressure(self, t, tol=1e-12):
-        """p(0, t), Pa."""
-        return self.pressure(0.0, t, tol)
+    def centre_pressure(self, t, tol=1e-12, dt=None):
+        """p(0, t), Pa (dt: see pressure)."""
+        return self.pressure(0.0, t, tol, dt)
 
-    def mean_pressure(self, t, tol=1e-12):
-        """Volume mean of p over the sphere, Pa."""
-        _, T, shape = self._prepare(0.0, t)
+    def mean_pressure(self, t, tol=1e-12, dt=None):
+        """Volume mean of p over the sphere, Pa (dt: see pressure)."""
+        _, T, shape = self._prepare(0.0, t, dt)
         P = np.ones_like(T)
         pos = T > 0
-        P[pos] = self._series(np.zeros(int(np.sum(pos))), T[pos], tol, ["mean"])["mean"]
+        P[pos] = self._series(np.zeros(int(np.sum(pos))), T[pos], tol, ["mean"], dt)["mean"]
         return (self.p0 * P).reshape(shape)
 
-    def displacement(self, r, t, tol=1e-12):
-        """Radial displacement u_r(r, t), m (negative: the sphere shrinks)."""
+    def displacement(self, r, t, tol=1e-12, dt=None):
+        """Radial displacement u_r(r, t), m (negative: the sphere shrinks;
+        dt: see pressure)."""
         p = self.params
-        rho, T, shape = self._prepare(r, t)
-        pbar = np.broadcast_to(self.mean_pressure(t, tol), shape).ravel()
+        rho, T, shape = self._prepare(r, t, dt)
+        pbar = np.broadcast_to(self.mean_pressure(t, tol, dt), shape).ravel()
         g = -(p.K_v / p.K_dr) * self.S + 4.0 * p.G * p.b / (3.0 * p.K_dr) * pbar
         U = rho * self.R * self.p0 / 3.0 * np.ones_like(rho)   # t = 0: int p s^2 / r^2 = p0 r/3
         pos = T > 0
         if np.any(pos):
-            U[pos] = self.R * self.p0 * self._series(rho[pos], T[pos], tol, ["u"])["u"]
+            U[pos] = self.R * self.p0 * self._series(rho[pos], T[pos], tol, ["u"], dt)["u"]
         u = rho * self.R * g / (3.0 * p.K_v) + p.b / p.K_v * U
         return u.reshape(shape)
 

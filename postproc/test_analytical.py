@@ -465,6 +465,34 @@ def check_cryer(s):
             scale = max(float(np.max(np.abs(q))) for q in terms)
             s.below(f"[{name}] mass balance (1/M) p_t + b eps_t - (k/mu) lap p, / largest term, at T = {T:g}",
                     (terms[0] + terms[1] - terms[2]) / scale, 1e-6)
+    # the implicit Euler solution: the time-discrete mass balance at step n,
+    # (1/M)(p_n - p_(n-1))/dt + b (eps_n - eps_(n-1))/dt = (k/mu) lap p_n, with
+    # eps = du/dr + 2u/r from its displacement; and dt -> 0 gives the series
+    for name in ["example", "rock"]:
+        p = SETS[name]
+        R = 2.0
+        c = A.Cryer(p, R, 1.0e6)
+        tc = R * R / c.c
+        rs = np.array([0.2, 0.45, 0.7, 0.9]) * R
+        hr = 1e-3 * R
+        for dT, n in [(1e-3, 50), (0.02, 10)]:
+            dt = dT * tc
+
+            def eps(k):
+                u = lambda x: c.displacement(x, k * dt, dt=dt)  # noqa: E731
+                return d1(u, rs, hr) + 2 * u(rs) / rs
+
+            pn = lambda x: c.pressure(x, n * dt, dt=dt)  # noqa: E731
+            terms = [p.inv_M * (pn(rs) - c.pressure(rs, (n - 1) * dt, dt=dt)) / dt,
+                     p.b * (eps(n) - eps(n - 1)) / dt,
+                     p.mobility * (d2(pn, rs, hr) + 2 / rs * d1(pn, rs, hr))]
+            scale = max(float(np.max(np.abs(q))) for q in terms)
+            s.below(f"[{name}] implicit Euler ({n} steps of c dt/R^2 = {dT:g}): the time-discrete mass balance, "
+                    f"/ largest term", (terms[0] + terms[1] - terms[2]) / scale, 1e-6)
+        t = 0.05 * tc
+        s.close(f"[{name}] implicit Euler with 1e5 steps -> the series (p(r, T = 0.05)/p0)",
+                c.pressure(rs, t, dt=t / 1e5) / c.p0, c.pressure(rs, t) / c.p0, 1e-5)
+        s.raises(f"[{name}] t not a multiple of dt rejected", lambda: c.pressure(0.0, 1.5, dt=1.0))
     # accuracy control and vectorization
     c = A.Cryer(SETS["example"], 1.0, 1.0e6)
     tc = 1.0 / c.c
