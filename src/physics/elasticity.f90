@@ -234,7 +234,8 @@ contains
   !> (replacing the prescribed values) are functions of position, for
   !> manufactured solutions. rhs_only: k holds this K already (assembled by
   !> an earlier call), only the right-hand side is made: the element
-  !> stiffness only of cells with prescribed dofs (their lifting). Collective.
+  !> stiffness only of cells with nonzero prescribed values (their lifting).
+  !> Collective.
   subroutine assemble_into(self, mesh, lf, k, rhs, body, dirichlet, rhs_only)
     class(elasticity_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
@@ -245,7 +246,7 @@ contains
     logical, intent(in), optional :: rhs_only
     real(rp), allocatable :: f_loc(:)
     real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, ke(24, 24), fe(24), ue(24), xq(3), bf(3)
-    real(rp) :: xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), tda(3)
+    real(rp) :: xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), da, av(3)
     integer(ip) :: c, q, a, i, j, dofs(24), r, t, f, nown
     type(parallel_comm_t) :: comm
     real(rp) :: dsum, dcount
@@ -264,7 +265,15 @@ contains
         dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
       end do
       loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp)
-      lifted = any(self%fixed(dofs))
+      ! known values of the prescribed dofs; only nonzero ones lift the right-hand side
+      lifted = .false.
+      do j = 1, 24
+        if (.not. self%fixed(dofs(j))) cycle
+        a = (j - 1) / 3 + 1
+        i = mod(j - 1, 3) + 1
+        ue(j) = prescribed(dofs(j), mesh%coords(:, mesh%cell_nodes(a, c)), i)
+        lifted = lifted .or. ue(j) /= 0.0_rp
+      end do
       if (.not. (matrix .or. lifted .or. loaded)) cycle
       if (matrix .or. lifted) call self%element_stiffness(mesh, c, ke)
       fe = 0.0_rp
@@ -286,12 +295,11 @@ contains
       ! prescribed dofs: move their known values to the right-hand side
       do j = 1, 24
         if (.not. self%fixed(dofs(j))) cycle
-        a = (j - 1) / 3 + 1
-        i = mod(j - 1, 3) + 1
-        ue(j) = prescribed(dofs(j), mesh%coords(:, mesh%cell_nodes(a, c)), i)
-        fe = fe - ke(:, j) * ue(j)
-        ke(:, j) = 0.0_rp
-        ke(j, :) = 0.0_rp
+        if (matrix .or. lifted) then
+          fe = fe - ke(:, j) * ue(j)
+          ke(:, j) = 0.0_rp
+          ke(j, :) = 0.0_rp
+        end if
         fe(j) = 0.0_rp
       end do
       if (matrix) call k%add_block(dofs, dofs, ke)
@@ -305,17 +313,17 @@ contains
       xf = mesh%coords(:, mesh%face_nodes(:, f))
       do q = 1, 4
         call quad_shape(xiq(:, q), nq, dnq)
-        ! t dA: the area vector (outward, |.| = dA) scaled by the normal traction, or the vector times dA
-        tda = quad_area_vector(xf, xiq(:, q)) * wq(q)
-        if (self%trac_normal(t)) then
-          tda = self%trac_value(1, t) * tda
-        else
-          tda = self%trac_value(:, t) * norm2(tda)
-        end if
+        av = quad_area_vector(xf, xiq(:, q))      ! outward (the face as its cell sees it), |av| dxi = dA
+        da = norm2(av) * wq(q)
         do a = 1, 4
           do i = 1, 3
             j = self%u%dof(mesh%face_nodes(a, f), i)
-            if (.not. self%fixed(j)) f_loc(j) = f_loc(j) + lf * self%bc_factor(self%trac_bc(t)) * nq(a) * tda(i)
+            if (self%fixed(j)) cycle
+            if (self%trac_normal(t)) then
+              f_loc(j) = f_loc(j) + lf * self%bc_factor(self%trac_bc(t)) * nq(a) * self%trac_value(1, t) * av(i) * wq(q)
+            else
+              f_loc(j) = f_loc(j) + lf * self%bc_factor(self%trac_bc(t)) * nq(a) * self%trac_value(i, t) * da
+            end if
           end do
         end do
       end do
