@@ -103,12 +103,8 @@ report "level 3" $PY tests/verification/check_cryer.py "$out/l3" cryer --times 0
 # 4. observed orders at t = 70 s (c t / R^2 = 0.1, the centre pressure
 # falling from its peak), constant steps of 1 s on every mesh: against the
 # implicit Euler series of the same steps (the spatial error alone)
-orders() {  # the table's lines as they are, the verdict line counted
-  local line
-  while read -r line; do
-    case "$line" in *"observed orders"*" ok") ok "$line" ;; *FAIL*|*"error:"*) ko "$line" ;; *) echo "        $line" ;; esac
-  done < <($PY tests/verification/orders.py "$@" 2>&1)
-}
-orders cryer 70 0.9 1.8 "$out/l1" "$out/l2" "$out/l3"
+while read -r line; do
+  case "$line" in *FAIL*|*error:*) ko "$line" ;; *"observed orders"*) ok "$line" ;; *) echo "        $line" ;; esac
+done < <($PY tests/verification/orders.py cryer 70 0.9 1.8 --min-pm 1.5 "$out/l1" "$out/l2" "$out/l3" 2>&1)
 echo "suite cryer: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

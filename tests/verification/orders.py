@@ -85,7 +85,7 @@ def order_table(title, rows, minimum):
     coarse to fine, and a verdict line; minimum: the smallest order accepted
     between successive meshes for 'p', 'u' and optionally 'pm'. Returns True
     when every order passes and the rows' times agree."""
-    print(f"{title}: relative L2 errors and observed orders at t = {rows[-1][1]:.6g} s")
+    print(f"{title}: relative L2 errors at t = {rows[-1][1]:.6g} s")
     print("| h [m] | pressure e_p | order | pressure vs cell means e_pm | order | displacement e_u | order |")
     print("|---|---|---|---|---|---|---|")
     orders = {key: [] for key in ("p", "pm", "u")}
