@@ -319,7 +319,39 @@ def _terzaghi_normalized(zeta, T, tol):
     return P, I
 
 
-class Terzaghi:
+class _Consolidation:
+    """What the series solutions share: the time factor T = c t / L^2 (c:
+    self.c, L: self._length), the checked broadcast of points and times, and
+    (Mandel, Cryer) the cached roots of the characteristic equation
+    (self._find_roots(n), into self._roots)."""
+
+    def time_factor(self, t):
+        """T = c t / L^2 (dimensionless; L: H, a or R)."""
+        return self.c * np.asarray(t, dtype=float) / self._length ** 2
+
+    def roots(self, n):
+        """First n roots of the characteristic equation (cached)."""
+        if n > self._roots.size:
+            self._roots = self._find_roots(max(n, 2 * self._roots.size))
+        return self._roots[:n]
+
+    def _points(self, x, t, scale, lo, where):
+        """x / scale (flat, clipped to [lo, 1]), T (flat) and the shape x and
+        t broadcast to; ValueError when x / scale leaves [lo, 1] (where: the
+        interval in words) or t is negative or not finite."""
+        x, t = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(t, dtype=float))
+        shape = x.shape
+        xi = x.ravel() / scale
+        T = self.time_factor(t.ravel())
+        name = type(self).__name__
+        if np.any(xi < lo - 1e-12) or np.any(xi > 1 + 1e-12):
+            raise ValueError(f"{name}: {where}")
+        if np.any(T < 0) or not np.all(np.isfinite(T)):
+            raise ValueError(f"{name}: t must be finite and >= 0")
+        return np.clip(xi, lo, 1.0), T, shape
+
+
+class Terzaghi(_Consolidation):
     """Terzaghi's one-dimensional consolidation (Biot's coupled form).
 
     Geometry and conventions: a column 0 <= z <= H (z upward, m); the base z = 0
@@ -358,6 +390,7 @@ class Terzaghi:
             raise ValueError(f"Terzaghi: column height H = {H!r} must be > 0")
         self.params = params
         self.H = float(H)
+        self._length = self.H
         self.sigma0 = float(sigma0)
 
     @property
@@ -370,20 +403,13 @@ class Terzaghi:
     def c_v(self):
         return self.params.c_v
 
-    def time_factor(self, t):
-        """T = c_v t / H^2 (dimensionless)."""
-        return self.c_v * np.asarray(t, dtype=float) / self.H ** 2
+    @property
+    def c(self):
+        """Consolidation coefficient c_v, m^2/s."""
+        return self.c_v
 
     def _prepare(self, z, t):
-        z, t = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(t, dtype=float))
-        shape = z.shape
-        zeta = z.ravel() / self.H
-        T = self.time_factor(t.ravel())
-        if np.any(zeta < -1e-12) or np.any(zeta > 1 + 1e-12):
-            raise ValueError("Terzaghi: z must lie in [0, H]")
-        if np.any(T < 0) or not np.all(np.isfinite(T)):
-            raise ValueError("Terzaghi: t must be finite and >= 0")
-        return np.clip(zeta, 0.0, 1.0), T, shape
+        return self._points(z, t, self.H, 0.0, "z must lie in [0, H]")
 
     def pressure(self, z, t, tol=1e-12):
         """Excess pore pressure p(z, t), Pa; z in m (0 base, H top), t in s;
@@ -471,7 +497,7 @@ def mandel_roots(ratio, n):
     return np.where(hl <= hh, lo, hi)
 
 
-class Mandel:
+class Mandel(_Consolidation):
     """Mandel's problem (plane strain), after Cheng & Detournay (1988) and
     Abousleiman et al. (1996).
 
@@ -524,6 +550,7 @@ class Mandel:
         nu, nu_u = params.nu, params.nu_u
         self.ratio = (1.0 - nu) / (nu_u - nu)
         self._roots = np.empty(0)
+        self._length = self.a
 
     @classmethod
     def from_traction(cls, params, a, b, traction, **kw):
@@ -542,15 +569,9 @@ class Mandel:
         p = self.params
         return self.F * p.B * (1.0 + p.nu_u) / (3.0 * self.a)
 
-    def time_factor(self, t):
-        """T = c t / a^2 (dimensionless)."""
-        return self.c * np.asarray(t, dtype=float) / self.a ** 2
-
-    def roots(self, n):
-        """First n roots alpha_1..alpha_n (cached)."""
-        if n > self._roots.size:
-            self._roots = mandel_roots(self.ratio, max(n, 2 * self._roots.size))
-        return self._roots[:n]
+    def _find_roots(self, n):
+        """alpha_1..alpha_n."""
+        return mandel_roots(self.ratio, n)
 
     def _nterms(self, T, tol):
         """Number of roots needed at time factor T > 0 (see class docstring)."""
@@ -595,15 +616,7 @@ class Mandel:
         return out
 
     def _prepare(self, x, t, half, name):
-        x, t = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(t, dtype=float))
-        shape = x.shape
-        xi = x.ravel() / half
-        T = self.time_factor(t.ravel())
-        if np.any(np.abs(xi) > 1 + 1e-12):
-            raise ValueError(f"Mandel: {name} must lie in [{-half}, {half}]")
-        if np.any(T < 0) or not np.all(np.isfinite(T)):
-            raise ValueError("Mandel: t must be finite and >= 0")
-        return np.clip(xi, -1.0, 1.0), T, shape
+        return self._points(x, t, half, -1.0, f"{name} must lie in [{-half}, {half}]")
 
     def pressure(self, x, t, tol=1e-12):
         """Pore pressure p(x, t), Pa; x in [-a, a] (m), t >= 0 (s), broadcast."""
@@ -728,7 +741,7 @@ def _sin_minus_xcos(x):
     return np.where(small, ser, np.sin(x) - x * np.cos(x))
 
 
-class Cryer:
+class Cryer(_Consolidation):
     """Cryer's problem: a poroelastic sphere of radius R, drained (p = 0) on
     its surface, loaded at t = 0 by a uniform compressive radial total stress
     S > 0 (sigma_rr(R, t) = -S), held constant. Radial symmetry: displacement
@@ -793,6 +806,7 @@ class Cryer:
         self.eta = 4.0 * p.G * p.b ** 2 / (3.0 * p.K_dr * p.K_v * p.S_v)
         self.beta = (1.0 + self.eta) / (3.0 * self.eta)
         self._roots = np.empty(0)
+        self._length = self.R
 
     @property
     def c(self):
@@ -804,15 +818,9 @@ class Cryer:
         """Undrained initial pressure B S, Pa."""
         return self.params.B * self.S
 
-    def time_factor(self, t):
-        """T = c t / R^2 (dimensionless)."""
-        return self.c * np.asarray(t, dtype=float) / self.R ** 2
-
-    def roots(self, n):
-        """First n roots xi_0..xi_{n-1} (cached)."""
-        if n > self._roots.size:
-            self._roots = cryer_roots(self.eta, max(n, 2 * self._roots.size))
-        return self._roots[:n]
+    def _find_roots(self, n):
+        """xi_0..xi_{n-1}."""
+        return cryer_roots(self.eta, n)
 
     def coefficients(self, n):
         """C_0..C_{n-1} of the pressure series."""
@@ -848,19 +856,12 @@ class Cryer:
         return n
 
     def _prepare(self, r, t, dt):
-        r, t = np.broadcast_arrays(np.asarray(r, dtype=float), np.asarray(t, dtype=float))
-        shape = r.shape
-        rho = r.ravel() / self.R
-        T = self.time_factor(t.ravel())
-        if np.any(rho < -1e-12) or np.any(rho > 1 + 1e-12):
-            raise ValueError("Cryer: r must lie in [0, R]")
-        if np.any(T < 0) or not np.all(np.isfinite(T)):
-            raise ValueError("Cryer: t must be finite and >= 0")
+        rho, T, shape = self._points(r, t, self.R, 0.0, "r must lie in [0, R]")
         if dt is not None:
-            steps = t.ravel() / dt
+            steps = T / self.time_factor(dt) if dt > 0 else T
             if not dt > 0 or np.any(np.abs(steps - np.round(steps)) > 1e-9 * np.maximum(steps, 1.0)):
                 raise ValueError("Cryer: with dt, t must be a multiple of dt > 0")
-        return np.clip(rho, 0.0, 1.0), T, shape
+        return rho, T, shape
 
     def _series(self, rho, T, tol, kinds, dt=None):
         """Sums over the roots at flat arrays rho, T (T > 0); kinds: 'p'
