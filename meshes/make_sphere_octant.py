@@ -121,8 +121,8 @@ def _det(x, xi):
 
 
 def quality(xyz, hexes):
-    """Smallest det J over the cell volume scale (corners and centre) and the
-    smallest scaled Jacobian at the corners."""
+    """Smallest det J of any cell at its corners and centre [m^3 over the
+    reference volume 8], and the smallest scaled Jacobian at the corners."""
     x = xyz[hexes]
     det = _det(x, np.vstack([REF, np.zeros((1, 3))]))
     # scaled Jacobian at corner c: edges to its three neighbours along the axes
