@@ -17,11 +17,13 @@ rm -rf "$out"; mkdir -p "$out"
 pass=0; fail=0
 ok() { echo "  ok    $1"; pass=$((pass + 1)); }
 ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
-report() {  # name of the check, command...: one ok/FAIL line per line of its output
-  local what=$1 line; shift
+report() {  # name of the check, command...: one ok/FAIL line per line of its output, FAIL if it fails
+  local what=$1 text rc line; shift
+  text=$("$@" 2>&1); rc=$?
   while read -r line; do
-    case "$line" in *FAIL*) ko "$what: $line" ;; *) ok "$what: $line" ;; esac
-  done < <("$@" 2>&1)
+    case "$line" in *FAIL*|*error:*|*Traceback*) ko "$what: $line" ;; *) ok "$what: $line" ;; esac
+  done <<< "$text"
+  if [ "$rc" -ne 0 ] && ! grep -qE 'FAIL|error:|Traceback' <<< "$text"; then ko "$what: exit status $rc"; fi
 }
 deck() {  # name, mesh level
   sed -e "s#sphere_octant_l3.msh#sphere_l$2.msh#" -e "s#build/test-out/cryer#$out/$1#" \
