@@ -1,9 +1,9 @@
-"""Analytical solutions of Terzaghi's and Mandel's consolidation problems.
+"""Analytical solutions of Terzaghi's, Mandel's and Cryer's consolidation problems.
 
 Reference solutions for geoblock's verification tests and plots. Needs only
 numpy (Debian python3-numpy); the example plot also needs matplotlib
-(python3-matplotlib). No scipy: the roots of Mandel's equation are found by a
-bisection written here.
+(python3-matplotlib). No scipy: the roots of Mandel's and Cryer's equations
+are found by bisections written here.
 
 Conventions (the same as geoblock's Biot model)
 -----------------------------------------------
@@ -40,6 +40,15 @@ Sources actually used
   consolidation coefficient c = 2 k/mu B^2 G (1-nu)(1+nu_u)^2 /
   (9 (1-nu_u)(nu_u-nu)). Their convention for the load is used: a total force
   2F per unit out-of-plane length on each plate.
+* C. W. Cryer, "A comparison of the three-dimensional consolidation theories
+  of Biot and Terzaghi", Q. J. Mech. Appl. Math. 16 (1963) 401-412: the
+  problem (a sphere loaded by a uniform radial stress, drained on its
+  surface) and the rise of the centre pressure above its undrained value;
+  Verruijt (above), chapter on Cryer's problem, gives the characteristic
+  equation for incompressible constituents,
+  tan xi = xi / (1 - (1-nu) xi^2 / (2 (1-2nu))). The Cryer class derives the
+  series for compressible constituents by Laplace transform (its docstring);
+  for M = inf and b = 1 its equation is Verruijt's.
 The self-check (test_analytical.py) verifies every series formula against the
 governing equations themselves (equilibrium, constitutive law, mass balance,
 boundary and initial conditions), so a misprint in a source would be caught.
@@ -62,7 +71,7 @@ __all__ = [
     "PoroParams", "Terzaghi", "Mandel", "mandel_roots",
     "terzaghi_pressure", "terzaghi_displacement", "terzaghi_settlement",
     "mandel_pressure", "mandel_displacement_x", "mandel_displacement_y",
-    "mandel_stress_yy", "plot_mandel_example",
+    "mandel_stress_yy", "Cryer", "cryer_roots", "plot_mandel_example",
 ]
 
 _erfc = np.frompyfunc(math.erfc, 1, 1)
@@ -310,7 +319,39 @@ def _terzaghi_normalized(zeta, T, tol):
     return P, I
 
 
-class Terzaghi:
+class _Consolidation:
+    """What the series solutions share: the time factor T = c t / L^2 (c:
+    self.c, L: self._length), the checked broadcast of points and times, and
+    (Mandel, Cryer) the cached roots of the characteristic equation
+    (self._find_roots(n), into self._roots)."""
+
+    def time_factor(self, t):
+        """T = c t / L^2 (dimensionless; L: H, a or R)."""
+        return self.c * np.asarray(t, dtype=float) / self._length ** 2
+
+    def roots(self, n):
+        """First n roots of the characteristic equation (cached)."""
+        if n > self._roots.size:
+            self._roots = self._find_roots(max(n, 2 * self._roots.size))
+        return self._roots[:n]
+
+    def _points(self, x, t, scale, lo, where):
+        """x / scale (flat, clipped to [lo, 1]), T (flat) and the shape x and
+        t broadcast to; ValueError when x / scale leaves [lo, 1] (where: the
+        interval in words) or t is negative or not finite."""
+        x, t = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(t, dtype=float))
+        shape = x.shape
+        xi = x.ravel() / scale
+        T = self.time_factor(t.ravel())
+        name = type(self).__name__
+        if np.any(xi < lo - 1e-12) or np.any(xi > 1 + 1e-12):
+            raise ValueError(f"{name}: {where}")
+        if np.any(T < 0) or not np.all(np.isfinite(T)):
+            raise ValueError(f"{name}: t must be finite and >= 0")
+        return np.clip(xi, lo, 1.0), T, shape
+
+
+class Terzaghi(_Consolidation):
     """Terzaghi's one-dimensional consolidation (Biot's coupled form).
 
     Geometry and conventions: a column 0 <= z <= H (z upward, m); the base z = 0
@@ -349,6 +390,7 @@ class Terzaghi:
             raise ValueError(f"Terzaghi: column height H = {H!r} must be > 0")
         self.params = params
         self.H = float(H)
+        self._length = self.H
         self.sigma0 = float(sigma0)
 
     @property
@@ -361,20 +403,13 @@ class Terzaghi:
     def c_v(self):
         return self.params.c_v
 
-    def time_factor(self, t):
-        """T = c_v t / H^2 (dimensionless)."""
-        return self.c_v * np.asarray(t, dtype=float) / self.H ** 2
+    @property
+    def c(self):
+        """Consolidation coefficient c_v, m^2/s."""
+        return self.c_v
 
     def _prepare(self, z, t):
-        z, t = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(t, dtype=float))
-        shape = z.shape
-        zeta = z.ravel() / self.H
-        T = self.time_factor(t.ravel())
-        if np.any(zeta < -1e-12) or np.any(zeta > 1 + 1e-12):
-            raise ValueError("Terzaghi: z must lie in [0, H]")
-        if np.any(T < 0) or not np.all(np.isfinite(T)):
-            raise ValueError("Terzaghi: t must be finite and >= 0")
-        return np.clip(zeta, 0.0, 1.0), T, shape
+        return self._points(z, t, self.H, 0.0, "z must lie in [0, H]")
 
     def pressure(self, z, t, tol=1e-12):
         """Excess pore pressure p(z, t), Pa; z in m (0 base, H top), t in s;
@@ -462,7 +497,7 @@ def mandel_roots(ratio, n):
     return np.where(hl <= hh, lo, hi)
 
 
-class Mandel:
+class Mandel(_Consolidation):
     """Mandel's problem (plane strain), after Cheng & Detournay (1988) and
     Abousleiman et al. (1996).
 
@@ -515,6 +550,7 @@ class Mandel:
         nu, nu_u = params.nu, params.nu_u
         self.ratio = (1.0 - nu) / (nu_u - nu)
         self._roots = np.empty(0)
+        self._length = self.a
 
     @classmethod
     def from_traction(cls, params, a, b, traction, **kw):
@@ -533,15 +569,9 @@ class Mandel:
         p = self.params
         return self.F * p.B * (1.0 + p.nu_u) / (3.0 * self.a)
 
-    def time_factor(self, t):
-        """T = c t / a^2 (dimensionless)."""
-        return self.c * np.asarray(t, dtype=float) / self.a ** 2
-
-    def roots(self, n):
-        """First n roots alpha_1..alpha_n (cached)."""
-        if n > self._roots.size:
-            self._roots = mandel_roots(self.ratio, max(n, 2 * self._roots.size))
-        return self._roots[:n]
+    def _find_roots(self, n):
+        """alpha_1..alpha_n."""
+        return mandel_roots(self.ratio, n)
 
     def _nterms(self, T, tol):
         """Number of roots needed at time factor T > 0 (see class docstring)."""
@@ -586,15 +616,7 @@ class Mandel:
         return out
 
     def _prepare(self, x, t, half, name):
-        x, t = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(t, dtype=float))
-        shape = x.shape
-        xi = x.ravel() / half
-        T = self.time_factor(t.ravel())
-        if np.any(np.abs(xi) > 1 + 1e-12):
-            raise ValueError(f"Mandel: {name} must lie in [{-half}, {half}]")
-        if np.any(T < 0) or not np.all(np.isfinite(T)):
-            raise ValueError("Mandel: t must be finite and >= 0")
-        return np.clip(xi, -1.0, 1.0), T, shape
+        return self._points(x, t, half, -1.0, f"{name} must lie in [{-half}, {half}]")
 
     def pressure(self, x, t, tol=1e-12):
         """Pore pressure p(x, t), Pa; x in [-a, a] (m), t >= 0 (s), broadcast."""
@@ -667,6 +689,249 @@ def mandel_displacement_y(params, a, b, F, y, t, tol=1e-12):
 def mandel_stress_yy(params, a, b, F, x, t, tol=1e-12):
     """Mandel(params, a, b, F).stress_yy(x, t): total sigma_yy, Pa."""
     return Mandel(params, a, b, F).stress_yy(x, t, tol)
+
+
+# --------------------------------------------------------------------------
+# Cryer
+# --------------------------------------------------------------------------
+
+def cryer_roots(eta, n):
+    """First n positive roots xi_0 < xi_1 < ... of Cryer's equation
+        (1 - beta xi^2) sin(xi) = xi cos(xi),   beta = (1 + eta) / (3 eta),
+    i.e. tan(xi) = xi / (1 - beta xi^2), for eta > 0.
+
+    With theta(xi) = atan2(xi, 1 - beta xi^2), which increases from 0 to pi,
+    the left side minus the right is rho sin(psi), psi = xi - theta(xi),
+    rho > 0: the roots are psi(xi) = k pi. psi falls from psi(0) = 0 to its
+    only minimum at xi* = 3 sqrt(eta) / (1 + eta) (<= 3/2) and then increases
+    to infinity, so psi = k pi has exactly one root for each k = 0, 1, 2, ...
+    (k = 0: the positive one), and it lies in [max(k pi, xi*), (k + 1) pi],
+    where psi - k pi changes sign. All roots are bisected at once to the last
+    bit; the end with the smaller |psi - k pi| is returned.
+    """
+    if not (eta > 0 and math.isfinite(eta)):
+        raise ValueError(f"cryer_roots: eta = {eta!r} must be finite and > 0")
+    beta = (1.0 + eta) / (3.0 * eta)
+    k = np.arange(int(n), dtype=float)
+    target = k * math.pi
+    xstar = 3.0 * math.sqrt(eta) / (1.0 + eta)
+    lo = np.maximum(target, xstar)
+    hi = target + math.pi
+
+    def g(x):
+        return x - np.arctan2(x, 1.0 - beta * x * x) - target
+
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        active = (mid > lo) & (mid < hi)
+        if not np.any(active):
+            break
+        gm = g(mid)
+        hi = np.where(active & (gm >= 0), mid, hi)
+        lo = np.where(active & (gm < 0), mid, lo)
+    return np.where(np.abs(g(lo)) <= np.abs(g(hi)), lo, hi)
+
+
+def _sin_minus_xcos(x):
+    """sin x - x cos x without cancellation at small x (Taylor below 0.1)."""
+    x = np.asarray(x, dtype=float)
+    small = np.abs(x) < 0.1
+    x2 = x * x
+    ser = x * x2 * (1.0 / 3.0 - x2 * (1.0 / 30.0 - x2 * (1.0 / 840.0 - x2 / 45360.0)))
+    return np.where(small, ser, np.sin(x) - x * np.cos(x))
+
+
+class Cryer(_Consolidation):
+    """Cryer's problem: a poroelastic sphere of radius R, drained (p = 0) on
+    its surface, loaded at t = 0 by a uniform compressive radial total stress
+    S > 0 (sigma_rr(R, t) = -S), held constant. Radial symmetry: displacement
+    u_r(r, t), pressure p(r, t).
+
+    Derivation (checked against the governing equations by
+    test_analytical.py). Radial displacement fields are irrotational, so
+    equilibrium gives grad(K_v eps - b p) = 0: K_v eps - b p = g(t) for every
+    r (eps = div u, K_v = lambda + 2G). Then u_r = r g/(3 K_v) +
+    (b/K_v) r^-2 int_0^r p s^2 ds, and sigma_rr(R) = -S fixes
+        g = -(K_v/K) S + (4 G b/(3 K)) pbar,   pbar = the volume mean of p,
+    K the drained bulk modulus. The mass balance becomes, with
+    S_v = 1/M + b^2/K_v and c = (k/mu)/S_v (= c_v of Terzaghi),
+        dp/dt + eta dpbar/dt = c lap p,   eta = 4 G b^2 / (3 K K_v S_v),
+    p(R) = 0, p(r, 0+) = p0 = B S (undrained: uniform isotropic stress -S,
+    no change of fluid content). Its Laplace transform is solved by
+    p^ = A (i0(q r) - i0(q R)), i0(z) = sinh z / z, q^2 = s/c; the residues at
+    the zeros s_n = -c xi_n^2/R^2 of eta ibar0(qR) - (1+eta) i0(qR)
+    (ibar0 the volume mean of i0) give, with rho = r/R, T = c t/R^2 and the
+    roots xi_n of (1 - beta xi^2) sin xi = xi cos xi, beta = (1+eta)/(3 eta)
+    (cryer_roots):
+        p   = p0 sum C_n (j0(xi_n rho) - j0(xi_n)) exp(-xi_n^2 T),
+        C_n = 2 (1 + eta) xi_n / ((eta - 2) sin xi_n - (1 + eta) xi_n cos xi_n),
+        j0(x) = sin x / x;
+        u_r = r g/(3 K_v) + (b R p0/K_v) sum C_n exp(-xi_n^2 T)
+              ((sin x - x cos x)/(xi_n^3 rho^2) - j0(xi_n) rho/3),  x = xi_n rho.
+    With M = inf and b = 1, beta = (1 - nu)/(2 (1 - 2 nu)): Verruijt's
+    equation. Limits: t = 0+: p = p0, u_r = -S r/(3 K_u) (undrained);
+    t -> inf: p = 0, u_r = -S r/(3 K). The centre pressure first rises above
+    p0 (the Mandel-Cryer effect), then decays like
+    p0 C_0 (1 - j0(xi_0)) exp(-xi_0^2 T).
+
+    Accuracy: at the roots |C_n| = 2 (1+eta) sqrt(xi^2 + (1 - beta xi^2)^2)
+    / |(1+eta) beta xi^2 - 3|, below 4 (1 + 1/(beta xi) + 1/(beta xi^2)) once
+    (1+eta) beta xi^2 >= 6; with xi_n >= n pi the tail from root N on is below
+    that bound times 2 exp(-(N pi)^2 T) / (1 - exp(-2 N pi^2 T)): absolute
+    truncation error < tol * p0 (pressure), < tol * b R p0 / K_v
+    (displacement's series). More than max_terms raises ValueError.
+
+    Time-discrete solution (argument dt of pressure, displacement, ...): the
+    problem is linear with a load constant from t = 0+, and its modes
+    evolve independently (the generalized eigenproblem of the mass balance
+    with the mean-pressure term), so implicit Euler with constant steps dt
+    from the undrained state turns exp(-xi_n^2 T) into (1 + xi_n^2 dT)^(-n),
+    dT = c dt/R^2, after n = t/dt steps: the solution a discretization exact
+    in space would give, against which a run with the same steps shows its
+    spatial error alone. Its tail from root N on is below the same cbar
+    times 2 (1 + y)^(-n) (1 + N/(2 a n - 1)), y = (N pi)^2 dT,
+    a = y/(1 + y) (as 1 + y (k/N)^2 >= (1 + y) (k/N)^(2a) for k >= N).
+    """
+
+    def __init__(self, params, R, S, max_terms=1_000_000):
+        if not R > 0:
+            raise ValueError(f"Cryer: radius R = {R!r} must be > 0")
+        if not params.b > 0:
+            raise ValueError("Cryer: the Biot coefficient must be > 0")
+        self.params = params
+        self.R = float(R)
+        self.S = float(S)
+        self.max_terms = int(max_terms)
+        p = params
+        self.eta = 4.0 * p.G * p.b ** 2 / (3.0 * p.K_dr * p.K_v * p.S_v)
+        self.beta = (1.0 + self.eta) / (3.0 * self.eta)
+        self._roots = np.empty(0)
+        self._length = self.R
+
+    @property
+    def c(self):
+        """Consolidation coefficient (k/mu) / S_v, m^2/s."""
+        return self.params.c_v
+
+    @property
+    def p0(self):
+        """Undrained initial pressure B S, Pa."""
+        return self.params.B * self.S
+
+    def _find_roots(self, n):
+        """xi_0..xi_{n-1}."""
+        return cryer_roots(self.eta, n)
+
+    def coefficients(self, n):
+        """C_0..C_{n-1} of the pressure series."""
+        xi = self.roots(n)
+        e = self.eta
+        return 2.0 * (1.0 + e) * xi / ((e - 2.0) * np.sin(xi) - (1.0 + e) * xi * np.cos(xi))
+
+    def _nterms(self, T, tol, dT=None):
+        """Roots needed at time factor T > 0, or after T/dT implicit Euler
+        steps of dT (see the class docstring)."""
+        kb = (1.0 + self.eta) * self.beta
+
+        def cbar(x):          # bound on |C_k| for xi_k >= x, (1 + eta) beta x^2 >= 6
+            return 4.0 * (1.0 + 1.0 / (self.beta * x) + 1.0 / (self.beta * x * x))
+
+        def tail(n):          # bound on the terms from root n on (pressure: |j0 - j0| <= 2)
+            x = n * math.pi
+            if dT is None:
+                return 2.0 * cbar(x) * math.exp(-x * x * T) / -math.expm1(-2.0 * n * math.pi ** 2 * T)
+            steps = T / dT
+            y = x * x * dT
+            alpha = y / (1.0 + y)
+            if 2.0 * alpha * steps <= 1.0:
+                return math.inf
+            return 2.0 * cbar(x) * math.exp(-steps * math.log1p(y)) * (1.0 + n / (2.0 * alpha * steps - 1.0))
+        n = max(1, int(math.ceil(math.sqrt(6.0 / kb) / math.pi)))
+        n = max(n, int(math.sqrt(max(math.log(8.0 / tol), 1.0) / T) / math.pi))
+        while tail(n) >= tol:
+            n += max(1, n // 50)
+            if n > self.max_terms:
+                raise ValueError(f"Cryer: time factor T = {T:.3e} needs more than max_terms = "
+                                 f"{self.max_terms} series terms")
+        return n
+
+    def _prepare(self, r, t, dt):
+        rho, T, shape = self._points(r, t, self.R, 0.0, "r must lie in [0, R]")
+        if dt is not None:
+            steps = T / self.time_factor(dt) if dt > 0 else T
+            if not dt > 0 or np.any(np.abs(steps - np.round(steps)) > 1e-9 * np.maximum(steps, 1.0)):
+                raise ValueError("Cryer: with dt, t must be a multiple of dt > 0")
+        return rho, T, shape
+
+    def _series(self, rho, T, tol, kinds, dt=None):
+        """Sums over the roots at flat arrays rho, T (T > 0); kinds: 'p'
+        (sum C (j0(xi rho) - j0(xi)) E), 'u' (sum C E ((sin x - x cos x)
+        / (xi^3 rho^2) - j0(xi) rho/3)), 'mean' (sum C E (jbar0(xi) - j0(xi)),
+        jbar0 = 3 (sin xi - xi cos xi)/xi^3, the volume mean of p/p0);
+        E = exp(-xi^2 T), or (1 + xi^2 dT)^(-T/dT) with dT = c dt/R^2."""
+        out = {k: np.zeros_like(rho) for k in kinds}
+        if rho.size == 0:
+            return out
+        dT = None if dt is None else float(self.time_factor(dt))
+        N = self._nterms(float(T.min()), tol, dT)
+        xi = self.roots(N)
+        C = self.coefficients(N)
+        j0 = np.sin(xi) / xi
+        chunk = max(1, 1_000_000 // rho.size)
+        for i0 in range(0, N, chunk):
+            a, cc, jj = xi[i0:i0 + chunk], C[i0:i0 + chunk], j0[i0:i0 + chunk]
+            if dT is None:
+                E = np.exp(-np.outer(T, a * a)) * cc          # (points, roots)
+            else:
+                E = np.exp(-np.outer(np.round(T / dT), np.log1p(a * a * dT))) * cc
+            x = np.outer(rho, a)
+            if "p" in out:
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    jx = np.where(x > 0, np.sin(x) / np.where(x > 0, x, 1.0), 1.0)
+                out["p"] += np.sum(E * (jx - jj), axis=1)
+            if "u" in out:
+                r2 = np.where(rho > 0, rho * rho, 1.0)[:, None]
+                v = _sin_minus_xcos(x) / (a ** 3 * r2) - np.outer(rho, jj) / 3.0
+                out["u"] += np.sum(E * np.where(rho[:, None] > 0, v, 0.0), axis=1)
+            if "mean" in out:
+                out["mean"] += E @ (3.0 * _sin_minus_xcos(a) / a ** 3 - jj)
+        return out
+
+    def pressure(self, r, t, tol=1e-12, dt=None):
+        """Pore pressure p(r, t), Pa; r in [0, R] (m), t >= 0 (s), broadcast.
+        dt [s]: instead, the implicit Euler solution after t/dt steps of dt
+        (t a multiple of dt; see the class docstring)."""
+        rho, T, shape = self._prepare(r, t, dt)
+        P = np.where(rho < 1.0, 1.0, 0.0)                  # t = 0
+        pos = T > 0
+        P[pos] = self._series(rho[pos], T[pos], tol, ["p"], dt)["p"]
+        return (self.p0 * P).reshape(shape)
+
+    def centre_pressure(self, t, tol=1e-12, dt=None):
+        """p(0, t), Pa (dt: see pressure)."""
+        return self.pressure(0.0, t, tol, dt)
+
+    def mean_pressure(self, t, tol=1e-12, dt=None):
+        """Volume mean of p over the sphere, Pa (dt: see pressure)."""
+        _, T, shape = self._prepare(0.0, t, dt)
+        P = np.ones_like(T)
+        pos = T > 0
+        P[pos] = self._series(np.zeros(int(np.sum(pos))), T[pos], tol, ["mean"], dt)["mean"]
+        return (self.p0 * P).reshape(shape)
+
+    def displacement(self, r, t, tol=1e-12, dt=None):
+        """Radial displacement u_r(r, t), m (negative: the sphere shrinks;
+        dt: see pressure)."""
+        p = self.params
+        rho, T, shape = self._prepare(r, t, dt)
+        pbar = np.broadcast_to(self.mean_pressure(t, tol, dt), shape).ravel()
+        g = -(p.K_v / p.K_dr) * self.S + 4.0 * p.G * p.b / (3.0 * p.K_dr) * pbar
+        U = rho * self.R * self.p0 / 3.0 * np.ones_like(rho)   # t = 0: int p s^2 / r^2 = p0 r/3
+        pos = T > 0
+        if np.any(pos):
+            U[pos] = self.R * self.p0 * self._series(rho[pos], T[pos], tol, ["u"], dt)["u"]
+        u = rho * self.R * g / (3.0 * p.K_v) + p.b / p.K_v * U
+        return u.reshape(shape)
 
 
 # --------------------------------------------------------------------------

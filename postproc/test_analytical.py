@@ -1,4 +1,4 @@
-"""Self-check of postproc/analytical.py (Terzaghi and Mandel solutions).
+"""Self-check of postproc/analytical.py (Terzaghi, Mandel and Cryer solutions).
 
 Run with Debian's Python (numpy, matplotlib):
     /usr/bin/python3 postproc/test_analytical.py
@@ -9,7 +9,9 @@ Besides the properties asked of the series (initial and final states,
 boundary conditions, the diffusion equation by finite differences, the roots),
 the Mandel formulas are checked against the governing equations they must
 satisfy (sigma_xx = 0, the constitutive law for sigma_yy, the plate force,
-the mass balance), so that they do not rest on the printed sources alone.
+the mass balance), and so are Cryer's (radial equilibrium, the surface
+stress, the mass balance; for incompressible constituents also Verruijt's
+series), so that they do not rest on the printed sources alone.
 """
 import math
 import os
@@ -365,6 +367,149 @@ def check_mandel(s):
                                                 1.0, 1.0, 1.0))
 
 
+def check_cryer(s):
+    print("Cryer")
+    # roots for a wide range of eta (the equation's only parameter)
+    for eta in [0.01, 0.5248, 2.0, 50.0]:
+        beta = (1 + eta) / (3 * eta)
+        xi = A.cryer_roots(eta, 2000)
+        k = np.arange(xi.size)
+        s.check(bool(np.all((xi > k * np.pi) & (xi < (k + 1) * np.pi)) and np.all(np.diff(xi) > 0)),
+                f"eta = {eta:g}: xi_k in (k pi, (k+1) pi), increasing (2000 roots)")
+        h = (1 - beta * xi ** 2) * np.sin(xi) - xi * np.cos(xi)
+        scale = (np.abs(1 - beta * xi ** 2) + xi) * (1 + xi)      # the terms' size times xi's rounding
+        s.below(f"eta = {eta:g}: |(1 - beta xi^2) sin xi - xi cos xi| / ((|1 - beta xi^2| + xi)(1 + xi))",
+                h / scale, 1e-15)
+        d = 1e-12 * xi[:50]
+        f = lambda x: (1 - beta * x ** 2) * np.sin(x) - x * np.cos(x)  # noqa: E731
+        s.check(bool(np.all(f(xi[:50] - d) * f(xi[:50] + d) < 0)),
+                f"eta = {eta:g}: the equation changes sign within 1e-12 xi of each of the first 50 roots")
+    s.raises("eta <= 0 rejected", lambda: A.cryer_roots(0.0, 3))
+    # incompressible constituents: Verruijt's equation and his centre-pressure series
+    # (Theory and Problems of Poroelasticity, Cryer's problem), eta_V = (1 - nu)/(1 - 2 nu)
+    for nu in [0.0, 0.25, 0.4]:
+        c = A.Cryer(A.PoroParams(E=1e8, nu=nu, b=1.0, M=math.inf, k=1e-12, mu=1e-3), 1.0, 1e6)
+        ev = (1 - nu) / (1 - 2 * nu)
+        s.close(f"nu = {nu}: 2 beta = (1 - nu)/(1 - 2 nu) (Verruijt's eta)", 2 * c.beta, ev, 1e-14)
+        xi = c.roots(400)
+        T = np.array([0.01, 0.05, 0.2])
+        ver = np.array([np.sum(ev * (np.sin(xi) - xi) / ((ev - 1) * np.sin(xi) + ev * xi * np.cos(xi) / 2)
+                               * np.exp(-xi ** 2 * TT)) for TT in T])
+        s.close(f"nu = {nu}: p(0, t)/p0 = Verruijt's series at T = 0.01, 0.05, 0.2",
+                c.centre_pressure(T * c.R ** 2 / c.c) / c.p0, ver, 1e-12)
+    for name in ["example", "rock", "incompressible", "deck"]:
+        p = SETS[name]
+        R, S = 2.0, 1.0e6
+        c = A.Cryer(p, R, S)
+        tc = R * R / c.c
+        pu = p.b * S / (p.K_dr * p.inv_M + p.b ** 2)      # undrained: -S = K_u eps, p = -b M eps
+        s.close(f"[{name}] p0 = B S = b M S / K_u", c.p0 / pu, 1.0, 1e-13)
+        r = np.linspace(0.0, 0.9, 10) * R
+        s.close(f"[{name}] p(r, 0) = p0", c.pressure(r, 0.0) / c.p0, 1.0, 0.0)
+        s.close(f"[{name}] p(r <= 0.9R, T = 1e-10)/p0 = 1 (rise O(sqrt T))", c.pressure(r, 1e-10 * tc) / c.p0,
+                1.0, 1e-4)
+        ts = tc * np.array([1e-6, 1e-3, 0.05, 0.5, 3.0])
+        s.below(f"[{name}] p(R, t) = 0 (drained surface)", c.pressure(R, ts) / c.p0, 1e-14)
+        Ku = math.inf if math.isinf(p.M) else p.K_dr + p.b ** 2 * p.M
+        s.close(f"[{name}] u(r, 0) = -S r/(3 K_u), u(r, T = 1e-9) -> it (undrained)",
+                np.concatenate([c.displacement(r, 0.0), c.displacement(r, 1e-9 * tc)]) * p.K_dr / (S * R),
+                np.concatenate([-S * r / (3 * Ku)] * 2) * p.K_dr / (S * R), 2e-5)
+        s.close(f"[{name}] t -> inf: p = 0, u = -S r/(3 K) (drained)",
+                np.concatenate([c.pressure(r, 40 * tc) / c.p0, c.displacement(r, 40 * tc) * 3 * p.K_dr / (S * R)]),
+                np.concatenate([0 * r, -r / R]), 1e-13)
+        s.below(f"[{name}] u(0, t) = 0", c.displacement(0.0, ts), 0.0)
+        # Mandel-Cryer: the centre pressure rises above p0 early, then decays
+        T = np.logspace(-4, 0, 200)
+        pc = c.centre_pressure(T * tc) / c.p0
+        k = int(np.argmax(pc))
+        s.check(bool(pc[k] > 1.0 and pc[0] > 1.0 and T[k] < 0.2),
+                f"[{name}] Mandel-Cryer: max p(0,t)/p0 = {pc[k]:.5f} > 1 at T = {T[k]:.3g}")
+        s.below(f"[{name}] p(0, T = 30)/p0 -> 0", c.centre_pressure(30 * tc) / c.p0, 1e-15)
+        x0 = c.roots(1)[0]
+        C0 = c.coefficients(1)[0]
+        T1, T2 = 2.0, 3.0
+        rate = -math.log(c.centre_pressure(T2 * tc) / c.centre_pressure(T1 * tc)) / (T2 - T1)
+        s.close(f"[{name}] late decay of p(0,t): rate xi_0^2 = {x0 * x0:.10f}, amplitude C_0 (1 - j0(xi_0))",
+                [rate / x0 ** 2, c.centre_pressure(T2 * tc) / c.p0 / (C0 * (1 - math.sin(x0) / x0)
+                                                                      * math.exp(-x0 * x0 * T2))],
+                [1.0, 1.0], 1e-8)
+        # the governing equations by finite differences
+        lam, G, b = p.lam, p.G, p.b
+        rs = np.array([0.2, 0.45, 0.7, 0.9]) * R
+        hr = 1e-3 * R
+        for T in [0.01, 0.1, 0.5]:
+            t = T * tc
+
+            def strain(tt, rr=rs):
+                du = d1(lambda x: c.displacement(x, tt), rr, hr)
+                return du, c.displacement(rr, tt) / rr
+
+            du, ur = strain(t)
+            pp = c.pressure(rs, t)
+            srr = lambda x: (lam + 2 * G) * d1(lambda y: c.displacement(y, t), x, hr) \
+                + 2 * lam * c.displacement(x, t) / x - b * c.pressure(x, t)      # noqa: E731
+            stt = lam * du + 2 * (lam + G) * ur - b * pp
+            eq = d1(srr, rs, hr) + 2 * (srr(rs) - stt) / rs
+            s.below(f"[{name}] equilibrium d sigma_rr/dr + 2 (sigma_rr - sigma_tt)/r = 0 at T = {T:g} "
+                    f"(rel. S/R)", eq * R / S, 1e-6)
+            # at the surface: one-sided (backward) fourth-order difference of u
+            x = np.array([R])
+            dR = (25 * c.displacement(x, t) - 48 * c.displacement(x - hr, t) + 36 * c.displacement(x - 2 * hr, t)
+                  - 16 * c.displacement(x - 3 * hr, t) + 3 * c.displacement(x - 4 * hr, t)) / (12 * hr)
+            sR = (lam + 2 * G) * dR + 2 * lam * c.displacement(x, t) / R
+            s.close(f"[{name}] sigma_rr(R) = -S at T = {T:g}", sR / S, -1.0, 1e-7)
+            pt = fd_dt(lambda tt: c.pressure(rs, tt), t)
+            et = fd_dt(lambda tt: sum(strain(tt)[0:1]) + 2 * strain(tt)[1], t)
+            lap = d2(lambda x: c.pressure(x, t), rs, hr) + 2 / rs * d1(lambda x: c.pressure(x, t), rs, hr)
+            terms = [p.inv_M * pt, b * et, p.mobility * lap]
+            scale = max(float(np.max(np.abs(q))) for q in terms)
+            s.below(f"[{name}] mass balance (1/M) p_t + b eps_t - (k/mu) lap p, / largest term, at T = {T:g}",
+                    (terms[0] + terms[1] - terms[2]) / scale, 1e-6)
+    # the implicit Euler solution: the time-discrete mass balance at step n,
+    # (1/M)(p_n - p_(n-1))/dt + b (eps_n - eps_(n-1))/dt = (k/mu) lap p_n, with
+    # eps = du/dr + 2u/r from its displacement; and dt -> 0 gives the series
+    for name in ["example", "rock"]:
+        p = SETS[name]
+        R = 2.0
+        c = A.Cryer(p, R, 1.0e6)
+        tc = R * R / c.c
+        rs = np.array([0.2, 0.45, 0.7, 0.9]) * R
+        hr = 1e-3 * R
+        for dT, n in [(1e-3, 50), (0.02, 10)]:
+            dt = dT * tc
+
+            def eps(k):
+                u = lambda x: c.displacement(x, k * dt, dt=dt)  # noqa: E731
+                return d1(u, rs, hr) + 2 * u(rs) / rs
+
+            pn = lambda x: c.pressure(x, n * dt, dt=dt)  # noqa: E731
+            terms = [p.inv_M * (pn(rs) - c.pressure(rs, (n - 1) * dt, dt=dt)) / dt,
+                     p.b * (eps(n) - eps(n - 1)) / dt,
+                     p.mobility * (d2(pn, rs, hr) + 2 / rs * d1(pn, rs, hr))]
+            scale = max(float(np.max(np.abs(q))) for q in terms)
+            s.below(f"[{name}] implicit Euler ({n} steps of c dt/R^2 = {dT:g}): the time-discrete mass balance, "
+                    f"/ largest term", (terms[0] + terms[1] - terms[2]) / scale, 1e-6)
+        t = 0.05 * tc
+        s.close(f"[{name}] implicit Euler with 1e5 steps -> the series (p(r, T = 0.05)/p0)",
+                c.pressure(rs, t, dt=t / 1e5) / c.p0, c.pressure(rs, t) / c.p0, 1e-5)
+        s.raises(f"[{name}] t not a multiple of dt rejected", lambda: c.pressure(0.0, 1.5, dt=1.0))
+    # accuracy control and vectorization
+    c = A.Cryer(SETS["example"], 1.0, 1.0e6)
+    tc = 1.0 / c.c
+    r = np.linspace(0.0, 1.0, 21)
+    for T in [1e-5, 1e-2, 0.3]:
+        s.below(f"tol = 1e-6 vs 1e-14 at T = {T:g}: |diff|/p0",
+                (c.pressure(r, T * tc, tol=1e-6) - c.pressure(r, T * tc, tol=1e-14)) / c.p0, 1e-6)
+    t = tc * np.array([0.0, 1e-4, 0.1, 2.0])
+    grid = c.displacement(r[:, None], t[None, :])
+    loop = np.array([[c.displacement(rr, tt) for tt in t] for rr in r])
+    s.check(grid.shape == (21, 4) and np.allclose(grid, loop, rtol=0, atol=1e-15),
+            "displacement(r[:,None], t[None,:]) broadcasts and equals pointwise values")
+    s.raises("r > R rejected", lambda: c.pressure(1.5, 1.0))
+    s.raises("t < 0 rejected", lambda: c.pressure(0.0, -1.0))
+    s.raises("b = 0 rejected", lambda: A.Cryer(A.PoroParams(1e9, 0.2, 0.0, 1e10, 1e-15, 1e-3), 1.0, 1.0))
+
+
 def check_plot(s):
     print("plot")
     try:
@@ -385,11 +530,11 @@ def check_plot(s):
 
 def main():
     import argparse
-    argparse.ArgumentParser(description="Self-checks of postproc/analytical.py (Terzaghi, Mandel); one line "
+    argparse.ArgumentParser(description="Self-checks of postproc/analytical.py (Terzaghi, Mandel, Cryer); one line "
                             "per check and a summary.").parse_args()
     s = Suite("analytical")
     np.seterr(all="raise", under="ignore")
-    for part in (check_params, check_terzaghi, check_roots, check_mandel, check_plot):
+    for part in (check_params, check_terzaghi, check_roots, check_mandel, check_cryer, check_plot):
         try:
             part(s)
         except Exception as e:  # noqa: BLE001  a crash counts as a failure

@@ -1,10 +1,18 @@
 !> Deck group &boundary (any number): a condition on a tagged surface set.
 !>
 !>   set          name of the surface set ('xmin' ... 'zmax' for a box)     [required]
-!>   type         'displacement' or 'traction'                             [required]
+!>   type         'displacement', 'traction', 'normal_traction', 'pressure'
+!>                or 'flux'                                                [required]
 !>   ux, uy, uz   prescribed displacement components [m]; a component left
 !>                out is free                                              [free]
 !>   traction(3)  prescribed traction vector [Pa], for type = 'traction'   [required]
+!>   normal_traction  for type = 'normal_traction': a traction along the
+!>                face's outward unit normal n, t = normal_traction n [Pa],
+!>                negative = compression (pushing into the body), the sign
+!>                of a total stress sigma_nn; for curved surfaces (a sphere
+!>                under a uniform radial load), where n changes from face to
+!>                face and within a face (it is taken at each quadrature
+!>                point of the face)                                       [required]
 !>   type = 'pressure' (biot): pressure  prescribed fluid pressure [Pa]     [required]
 !>   type = 'flux' (biot):     flux      prescribed outward normal Darcy
 !>                             flux [m/s]                                  [required]
@@ -29,6 +37,10 @@ module boundary_config
 
   public :: boundary_config_t, read_boundaries, load_histories
 
+  !> The condition types, for messages and the parameter echo.
+  character(len=*), parameter :: type_names = &
+    "'displacement', 'traction', 'normal_traction', 'pressure' or 'flux'"
+
   type :: boundary_config_t
     character(len=name_len) :: set = ''
     character(len=16) :: type = ''
@@ -51,17 +63,17 @@ contains
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: set
     character(len=16) :: type
-    real(rp) :: ux, uy, uz, traction(3), pressure, flux
+    real(rp) :: ux, uy, uz, traction(3), normal_traction, pressure, flux
     character(len=path_len) :: history
     integer :: k, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    namelist /boundary/ set, type, ux, uy, uz, traction, pressure, flux, history
+    namelist /boundary/ set, type, ux, uy, uz, traction, normal_traction, pressure, flux, history
 
     allocate(bcs(d%count('boundary')))
     do k = 1, size(bcs)
       set = ''; type = ''; ux = unset_real; uy = unset_real; uz = unset_real; traction = unset_real
-      pressure = unset_real; flux = unset_real; history = ''
+      normal_traction = unset_real; pressure = unset_real; flux = unset_real; history = ''
       call d%block('boundary', k, b)
       read(b, nml=boundary, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -86,6 +98,16 @@ contains
         if (any([ux, uy, uz] /= unset_real)) &
           call d%fail(status, 'boundary', k, 'ux', "ux, uy, uz are not used with type = 'traction'")
         bcs(k)%value = traction
+      case ('normal_traction')
+        if (normal_traction == unset_real) &
+          call d%fail(status, 'boundary', k, 'normal_traction', "required with type = 'normal_traction' "// &
+                      "(the traction along the outward normal [Pa], negative in compression)")
+        if (any(traction /= unset_real)) &
+          call d%fail(status, 'boundary', k, 'traction', "not used with type = 'normal_traction' (its value is "// &
+                      "the scalar normal_traction)")
+        if (any([ux, uy, uz] /= unset_real)) &
+          call d%fail(status, 'boundary', k, 'ux', "ux, uy, uz are not used with type = 'normal_traction'")
+        bcs(k)%value = [normal_traction, 0.0_rp, 0.0_rp]
       case ('pressure')
         if (pressure == unset_real) call d%fail(status, 'boundary', k, 'pressure', "required with type = 'pressure'")
         bcs(k)%value = [pressure, 0.0_rp, 0.0_rp]
@@ -93,11 +115,12 @@ contains
         if (flux == unset_real) call d%fail(status, 'boundary', k, 'flux', "required with type = 'flux'")
         bcs(k)%value = [flux, 0.0_rp, 0.0_rp]
       case ('')
-        call d%fail(status, 'boundary', k, 'type', "required: 'displacement', 'traction', 'pressure' or 'flux'")
+        call d%fail(status, 'boundary', k, 'type', "required: "//type_names)
       case default
-        call d%fail(status, 'boundary', k, 'type', "must be 'displacement', 'traction', 'pressure' or 'flux' (got '"// &
-                    trim(type)//"')")
+        call d%fail(status, 'boundary', k, 'type', "must be "//type_names//" (got '"//trim(type)//"')")
       end select
+      if (type /= 'normal_traction' .and. normal_traction /= unset_real) &
+        call d%fail(status, 'boundary', k, 'normal_traction', "only used with type = 'normal_traction'")
       if (type /= 'pressure' .and. pressure /= unset_real) &
         call d%fail(status, 'boundary', k, 'pressure', "only used with type = 'pressure'")
       if (type /= 'flux' .and. flux /= unset_real) &
@@ -114,7 +137,7 @@ contains
     integer :: i
     call g%init('boundary')
     call g%add('set', self%set, '-', 'surface set')
-    call g%add('type', self%type, '-', "'displacement', 'traction', 'pressure' or 'flux'")
+    call g%add('type', self%type, '-', type_names)
     select case (self%type)
     case ('displacement')
       do i = 1, 3
@@ -126,6 +149,8 @@ contains
       end do
     case ('traction')
       call g%add('traction', self%value, 'Pa', 'prescribed traction vector')
+    case ('normal_traction')
+      call g%add('normal_traction', self%value(1), 'Pa', 'traction along the outward normal (negative: compression)')
     case ('pressure')
       call g%add('pressure', self%value(1), 'Pa', 'prescribed fluid pressure')
     case ('flux')

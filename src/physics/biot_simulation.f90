@@ -43,6 +43,7 @@ module biot_simulation
     type(biot_precon_t) :: bpc
     type(mgr_precon_t) :: mgr                      !< &solver precon = 'mgr': hypre's MGR (the peer)
     real(rp) :: mgr_dt = -1.0_rp                   !< dt of the MGR set-up
+    real(rp) :: direct_dt = -1.0_rp                !< dt of the matrix a direct solver last saw (< 0: none)
     type(amg_params_t) :: amg_s                     !< BoomerAMG settings of the scalar blocks
     real(rp), allocatable :: dscale(:)              !< scaling of the block system
     real(rp) :: t = 0.0_rp, dt = 0.0_rp             !< the step's end time and size [s]
@@ -155,6 +156,8 @@ contains
 
   !> The block system for the new state, from the old state as initial
   !> guess; the preconditioner's parts are (re)built as they fall due.
+  !> The matrix depends on dt alone (assemble), so a direct solver keeps its
+  !> factors while dt stays the same.
   subroutine linear_system(self, direct, sys, log, status)
     class(biot_simulation_t), intent(inout), target :: self
     logical, intent(in) :: direct
@@ -168,7 +171,11 @@ contains
     sys%b => self%phys%rhs
     sys%x => self%phys%x
     sys%fields = 'u,q,p'
-    if (direct) return
+    if (direct) then
+      sys%changed = self%dt /= self%direct_dt
+      self%direct_dt = self%dt
+      return
+    end if
     call self%setup_precon(log, status)
     if (.not. status%ok()) return
     sys%m => self%bpc%bp
@@ -401,6 +408,7 @@ contains
     if (allocated(self%dscale)) deallocate(self%dscale)
     self%setup_done = .false.
     self%dt_used = -1.0_rp
+    self%direct_dt = -1.0_rp
   end subroutine free
   !> The resolved groups: the shared ones, then &biot and every &source.
   subroutine parameter_groups(self, groups)

@@ -5,7 +5,10 @@
 !> rows and columns of prescribed dofs (their known values move to the right-
 !> hand side), and after assembly each prescribed row gets a diagonal entry equal
 !> to the mean diagonal of K, so the matrix stays symmetric positive definite and
-!> well scaled for AMG. Stresses are positive in tension.
+!> well scaled for AMG. Stresses are positive in tension. Surface loads are a
+!> constant traction vector ('traction') or a traction along the outward unit
+!> normal ('normal_traction', evaluated at each quadrature point of the face:
+!> t dA = value * the face's area vector, which points out of its cell).
 module elasticity
   use kinds, only: rp, ip, gp, name_len, msg_len
   use parallel_comm, only: parallel_comm_t
@@ -34,7 +37,8 @@ module elasticity
     logical, allocatable :: fixed(:)         !< per local dof
     real(rp), allocatable :: fixed_value(:)  !< per local dof, at full load [m]
     integer(ip), allocatable :: trac_face(:) !< local boundary faces with a traction, on owned cells
-    real(rp), allocatable :: trac_value(:,:) !< (3, n) traction at full load [Pa]
+    real(rp), allocatable :: trac_value(:,:) !< (3, n) traction at full load [Pa]; normal: (value, 0, 0)
+    logical, allocatable :: trac_normal(:)   !< (n) the traction is along the outward normal
     real(rp) :: diag_scale = 1.0_rp
     integer(ip), allocatable :: fixed_bc(:)  !< per local dof: the condition that prescribes it
     integer(ip), allocatable :: trac_bc(:)   !< per traction face: its condition
@@ -126,17 +130,17 @@ contains
             self%fixed_bc(self%u%dof(mesh%set_nodes(i), c)) = b
           end do
         end do
-      else if (bcs(b)%type == 'traction') then
+      else if (is_traction(bcs(b)%type)) then
         do i = 1, mesh%n_sfaces
           if (mesh%sface_set(i) == s) nt = nt + 1
         end do
       end if
     end do
     ! traction faces: boundary faces of the set whose cell this rank owns
-    allocate(self%trac_face(nt), self%trac_value(3, nt), self%trac_bc(nt))
+    allocate(self%trac_face(nt), self%trac_value(3, nt), self%trac_bc(nt), self%trac_normal(nt))
     nt = 0
     do b = 1, size(bcs, kind=ip)
-      if (bcs(b)%type /= 'traction') cycle
+      if (.not. is_traction(bcs(b)%type)) cycle
       s = mesh%set_id(bcs(b)%set)
       do i = 1, mesh%n_sfaces
         if (mesh%sface_set(i) /= s) cycle
@@ -151,11 +155,18 @@ contains
         self%trac_face(nt) = f
         self%trac_value(:, nt) = bcs(b)%value
         self%trac_bc(nt) = b
+        self%trac_normal(nt) = bcs(b)%type == 'normal_traction'
       end do
     end do
     self%trac_face = self%trac_face(1:nt)
     self%trac_value = self%trac_value(:, 1:nt)
     self%trac_bc = self%trac_bc(1:nt)
+    self%trac_normal = self%trac_normal(1:nt)
+  contains
+    logical function is_traction(type)
+      character(len=*), intent(in) :: type
+      is_traction = type == 'traction' .or. type == 'normal_traction'
+    end function is_traction
   end subroutine init
 
   !> Evaluate the conditions' histories at time t (the load factor for a
@@ -223,7 +234,8 @@ contains
   !> (replacing the prescribed values) are functions of position, for
   !> manufactured solutions. rhs_only: k holds this K already (assembled by
   !> an earlier call), only the right-hand side is made: the element
-  !> stiffness only of cells with prescribed dofs (their lifting). Collective.
+  !> stiffness only of cells with nonzero prescribed values (their lifting).
+  !> Collective.
   subroutine assemble_into(self, mesh, lf, k, rhs, body, dirichlet, rhs_only)
     class(elasticity_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
@@ -234,7 +246,7 @@ contains
     logical, intent(in), optional :: rhs_only
     real(rp), allocatable :: f_loc(:)
     real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, ke(24, 24), fe(24), ue(24), xq(3), bf(3)
-    real(rp) :: xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), da
+    real(rp) :: xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), da, av(3)
     integer(ip) :: c, q, a, i, j, dofs(24), r, t, f, nown
     type(parallel_comm_t) :: comm
     real(rp) :: dsum, dcount
@@ -253,7 +265,15 @@ contains
         dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
       end do
       loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp)
-      lifted = any(self%fixed(dofs))
+      ! known values of the prescribed dofs; only nonzero ones lift the right-hand side
+      lifted = .false.
+      do j = 1, 24
+        if (.not. self%fixed(dofs(j))) cycle
+        a = (j - 1) / 3 + 1
+        i = mod(j - 1, 3) + 1
+        ue(j) = prescribed(dofs(j), mesh%coords(:, mesh%cell_nodes(a, c)), i)
+        lifted = lifted .or. ue(j) /= 0.0_rp
+      end do
       if (.not. (matrix .or. lifted .or. loaded)) cycle
       if (matrix .or. lifted) call self%element_stiffness(mesh, c, ke)
       fe = 0.0_rp
@@ -275,12 +295,11 @@ contains
       ! prescribed dofs: move their known values to the right-hand side
       do j = 1, 24
         if (.not. self%fixed(dofs(j))) cycle
-        a = (j - 1) / 3 + 1
-        i = mod(j - 1, 3) + 1
-        ue(j) = prescribed(dofs(j), mesh%coords(:, mesh%cell_nodes(a, c)), i)
-        fe = fe - ke(:, j) * ue(j)
-        ke(:, j) = 0.0_rp
-        ke(j, :) = 0.0_rp
+        if (matrix .or. lifted) then
+          fe = fe - ke(:, j) * ue(j)
+          ke(:, j) = 0.0_rp
+          ke(j, :) = 0.0_rp
+        end if
         fe(j) = 0.0_rp
       end do
       if (matrix) call k%add_block(dofs, dofs, ke)
@@ -294,12 +313,17 @@ contains
       xf = mesh%coords(:, mesh%face_nodes(:, f))
       do q = 1, 4
         call quad_shape(xiq(:, q), nq, dnq)
-        da = norm2(quad_area_vector(xf, xiq(:, q))) * wq(q)
+        av = quad_area_vector(xf, xiq(:, q))      ! outward (the face as its cell sees it), |av| dxi = dA
+        da = norm2(av) * wq(q)
         do a = 1, 4
           do i = 1, 3
             j = self%u%dof(mesh%face_nodes(a, f), i)
-            if (.not. self%fixed(j)) f_loc(j) = f_loc(j) + lf * self%bc_factor(self%trac_bc(t)) * nq(a) * &
-                                               self%trac_value(i, t) * da
+            if (self%fixed(j)) cycle
+            if (self%trac_normal(t)) then
+              f_loc(j) = f_loc(j) + lf * self%bc_factor(self%trac_bc(t)) * nq(a) * self%trac_value(1, t) * av(i) * wq(q)
+            else
+              f_loc(j) = f_loc(j) + lf * self%bc_factor(self%trac_bc(t)) * nq(a) * self%trac_value(i, t) * da
+            end if
           end do
         end do
       end do
@@ -442,7 +466,7 @@ contains
     if (allocated(self%rhs)) deallocate(self%rhs)
     if (allocated(self%lambda)) deallocate(self%lambda, self%mu, self%body)
     if (allocated(self%fixed)) deallocate(self%fixed, self%fixed_value, self%fixed_bc)
-    if (allocated(self%trac_face)) deallocate(self%trac_face, self%trac_value, self%trac_bc)
+    if (allocated(self%trac_face)) deallocate(self%trac_face, self%trac_value, self%trac_bc, self%trac_normal)
     if (allocated(self%bcs)) deallocate(self%bcs, self%bc_factor)
   end subroutine free
 end module elasticity

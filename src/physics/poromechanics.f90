@@ -368,7 +368,7 @@ contains
     real(rp), allocatable :: u_old(:), q_loc(:), rhs_u(:), p_old(:)
     real(rp) :: xe(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, qe(24), ae(6, 6), be(6), b
     integer(ip) :: c, a, q, j, dofs(24), faces(6), r, nu, nq, i, f, u0, u1, q0, q1, p0, p1
-    logical :: matrix, weights
+    logical :: matrix, weights, moved, fluxed
 
     ! the matrix once (it does not change but for dt B and the stabilization
     ! of an adaptive size); the right-hand side always
@@ -406,8 +406,13 @@ contains
       do a = 1, 8
         dofs(3*a-2:3*a) = self%mech%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
       end do
-      ! Q_e = b int grad N (for the matrix, or the known displacements' columns)
-      if (matrix .or. any(self%mech%fixed(dofs))) then
+      ! Q_e = b int grad N (for the matrix, or the columns of the known
+      ! displacements that change over the step)
+      moved = .false.
+      do j = 1, 24
+        if (self%mech%fixed(dofs(j))) moved = moved .or. self%mech%prescribed_value(dofs(j)) /= u_old(dofs(j))
+      end do
+      if (matrix .or. moved) then
         qe = 0.0_rp
         do q = 1, 8
           call hex_gradients(xe, xi(:, q), n, g, det)
@@ -418,7 +423,8 @@ contains
         do j = 1, 24
           if (self%mech%fixed(dofs(j))) then
             ! known displacement: Q^T column to the right-hand side (its change over the step)
-            self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) - qe(j) * (self%mech%prescribed_value(dofs(j)) - u_old(dofs(j)))
+            if (moved) self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) - qe(j) * (self%mech%prescribed_value(dofs(j)) - &
+                                                                        u_old(dofs(j)))
           else if (matrix) then
             call self%sys%a(iu, ipr)%add_value(dofs(j), c, -qe(j))
             call self%sys%a(ipr, iu)%add_value(c, dofs(j), qe(j))
@@ -426,9 +432,13 @@ contains
         end do
       end if
       ! Darcy: A_e and B_e in the global face orientation (for the matrix,
-      ! or the prescribed fluxes' columns)
+      ! or the columns of nonzero prescribed fluxes)
       faces = mesh%cell_faces(:, c)
-      if (matrix .or. any(self%q_fixed(faces))) then
+      fluxed = .false.
+      do j = 1, 6
+        if (self%q_fixed(faces(j))) fluxed = fluxed .or. flux_value(faces(j)) /= 0.0_rp
+      end do
+      if (matrix .or. fluxed) then
         call rt0_cell_mass(xe, self%kinv(:, :, r), ae, status)
         if (.not. status%ok()) return
         call rt0_cell_divergence(xe, be, status)
@@ -439,6 +449,7 @@ contains
       do j = 1, 6
         f = faces(j)
         if (self%q_fixed(f)) then
+          if (.not. fluxed) cycle
           do i = 1, 6
             if (.not. self%q_fixed(faces(i))) q_loc(faces(i)) = q_loc(faces(i)) - ae(i, j) * flux_value(f)
           end do
