@@ -253,13 +253,16 @@ for np in 1 2; do
   fi
   # the flow run's checkpoint (MUMPS: blocks u, t, p) resumed with FGMRES and
   # the eliminated pressure (blocks t, p, u): the state is stored by field,
-  # so the run goes on from the same state (results to the solver's tolerance)
+  # so the run goes on from the same state (results to the solver's tolerance;
+  # FGMRES to 1e-11: 1e-12 is the floor of what it attains on these systems,
+  # one of step 4's stagnated at 1.1e-12 on 1 rank, the step was cut and
+  # took another path of statuses)
   a=$out/flow-np$np/continuous; c=$out/flow-np$np/solver_change
   mkdir -p "$c"; cp "$a/ff_mesh.h5" "$a/ff_checkpoint.h5" "$a"/ff_000[0-3].h5 "$c/" 2>/dev/null
   awk -F, 'NR == 1 || $1 + 0 <= 3' "$a/ff_residuals.csv" > "$c/ff_residuals.csv"
   awk -F, 'NR == 1 || $1 + 0 <= 3' "$a/ff_probes.csv" > "$c/ff_probes.csv"
   deck "$out/flow.tpl" "$c" ", restart = '$c/ff_checkpoint.h5'" "" | \
-    sed "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-12#" > "$c.nml"
+    sed "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-11#" > "$c.nml"
   if run "$np" "$c.nml" "$c.stdout"; then
     if msg=$("$PY" - "$a/ff_0005.h5" "$c/ff_0005.h5" <<'PY' 2>&1
 import sys, h5py, numpy as np
