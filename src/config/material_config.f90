@@ -12,6 +12,10 @@
 !>   permeability_tensor(6)  full tensor xx, yy, zz, xy, yz, xz [m^2],
 !>                 symmetric positive definite; replaces permeability
 !>   viscosity     fluid viscosity mu [Pa s] (> 0)                     [1e-3]
+!> In-situ state (&geostatic; refused without it):
+!>   density       density of the (saturated) rock [kg/m^3] (>= 0)    [required with &geostatic]
+!>   k0            ratio of horizontal to vertical effective stress in
+!>                 situ (> 0)                            [nu / (1 - nu), uniaxial strain]
 module material_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -37,6 +41,8 @@ module material_config
     real(rp) :: biot_modulus = unset_real
     real(rp) :: permeability = unset_real
     real(rp) :: permeability_tensor(6) = unset_real
+    real(rp) :: density = unset_real           !< [kg/m^3]; unset: not given
+    real(rp) :: k0 = unset_real                !< unset: nu / (1 - nu)
   contains
     procedure :: describe => describe_material
   end type material_config_t
@@ -51,12 +57,13 @@ contains
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: region
     real(rp) :: young, poisson, body_force(3), biot, biot_modulus, permeability, permeability_tensor(6), viscosity
+    real(rp) :: density, k0
     real(rp) :: t(3, 3), ev(3)
     integer :: k, j, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     namelist /material/ region, young, poisson, body_force, biot, biot_modulus, permeability, permeability_tensor, &
-                        viscosity
+                        viscosity, density, k0
 
     allocate(mats(d%count('material')))
     if (size(mats) == 0) then
@@ -66,7 +73,7 @@ contains
     do k = 1, size(mats)
       region = ''; young = unset_real; poisson = unset_real; body_force = 0.0_rp
       biot = 1.0_rp; biot_modulus = unset_real; permeability = unset_real; permeability_tensor = unset_real
-      viscosity = 1.0e-3_rp
+      viscosity = 1.0e-3_rp; density = unset_real; k0 = unset_real
       call d%block('material', k, b)
       read(b, nml=material, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -94,6 +101,10 @@ contains
         call d%fail(status, 'material', k, 'biot_modulus', 'must be positive (got '//rtoa(biot_modulus)//')')
       if (.not. viscosity > 0.0_rp) &
         call d%fail(status, 'material', k, 'viscosity', 'must be positive (got '//rtoa(viscosity)//')')
+      if (density /= unset_real .and. .not. density >= 0.0_rp) &
+        call d%fail(status, 'material', k, 'density', 'must be >= 0 (got '//rtoa(density)//')')
+      if (k0 /= unset_real .and. .not. k0 > 0.0_rp) &
+        call d%fail(status, 'material', k, 'k0', 'must be > 0 (got '//rtoa(k0)//')')
       t = 0.0_rp
       if (any(permeability_tensor /= unset_real)) then
         if (any(permeability_tensor == unset_real)) then
@@ -120,7 +131,7 @@ contains
       mats(k) = material_config_t(region=region, young=young, poisson=poisson, body_force=body_force, biot=biot, &
         inv_biot_modulus=merge(0.0_rp, 1.0_rp / max(biot_modulus, tiny(1.0_rp)), biot_modulus == unset_real), &
         perm=t, viscosity=viscosity, biot_modulus=biot_modulus, permeability=permeability, &
-        permeability_tensor=permeability_tensor)
+        permeability_tensor=permeability_tensor, density=density, k0=k0)
     end do
   end subroutine read_materials
 
@@ -150,6 +161,17 @@ contains
       call g%add_unset('permeability_tensor', '(not set)', 'm^2', 'permeability xx, yy, zz, xy, yz, xz')
     end if
     call g%add('viscosity', self%viscosity, 'Pa s', 'fluid viscosity')
+    if (self%density /= unset_real) then
+      call g%add('density', self%density, 'kg/m^3', 'rock density (&geostatic)')
+    else
+      call g%add_unset('density', '(not set)', 'kg/m^3', 'rock density (&geostatic)')
+    end if
+    if (self%k0 /= unset_real) then
+      call g%add('k0', self%k0, '-', 'in-situ horizontal / vertical effective stress (&geostatic)')
+    else
+      call g%add_unset('k0', '(not set: nu / (1 - nu))', '-', &
+                       'in-situ horizontal / vertical effective stress (&geostatic)')
+    end if
   end subroutine describe_material
 
   !> Eigenvalues of a symmetric 3x3 matrix (Jacobi rotations).

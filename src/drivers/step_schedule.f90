@@ -1,7 +1,9 @@
 !> The nominal steps of a run, from &time:
 !>
 !>  load steps (a quasi-static physics): steps 1 .. n_steps to the load
-!>    factors step / n_steps (the "time" t runs from 0 to 1);
+!>    factors step / n_steps (the "time" t runs from 0 to 1), after a step
+!>    0 of size 0 at load 0 when the physics asks for one (&geostatic: the
+!>    equilibrium of the in-situ state);
 !>  time steps (a transient physics): an optional initial step 0 of size 0
 !>    at t = 0 (&time undrained), then steps to the times of &time times, or
 !>    of sizes dt * dt_growth**(step-1), at most dt_max, the last one ending
@@ -41,14 +43,15 @@ module step_schedule
 contains
 
   !> The schedule of run for a transient or a quasi-static physics.
-  subroutine init(self, run, transient)
+  subroutine init(self, run, transient, in_situ)
     class(step_schedule_t), intent(inout) :: self
     type(run_config_t), intent(in) :: run
     logical, intent(in) :: transient
+    logical, intent(in) :: in_situ      !< a step 0 for the in-situ equilibrium (&geostatic)
     self%transient = transient
     self%n_steps = run%n_steps
     self%max_steps = run%max_steps
-    self%initial_step = transient .and. run%undrained
+    self%initial_step = (transient .and. run%undrained) .or. in_situ
     self%dt = run%dt
     self%t_end = run%t_end
     self%dt_growth = run%dt_growth

@@ -132,7 +132,7 @@ contains
     ! the resolved deck, before anything can fail (a failed run leaves it too)
     if (status%ok()) call record_parameters(comm, log, d%path, run, mcfg, sim, pcfg, status)
     if (.not. status%ok()) call log%fatal(comm, status%msg)
-    call rs%schedule%init(run, sim%transient)
+    call rs%schedule%init(run, sim%transient, sim%initial_step)
 
     call rs%timers%start('mesh')
     call build_mesh(comm, mcfg, log, mesh, status, sim%faults)

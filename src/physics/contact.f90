@@ -328,8 +328,27 @@ contains
         self%eb(:, :, 2, ed) = -sigma * matmul(r1, matmul(mm, transpose(r2)))
         self%eb(:, :, 3, ed) = matmul(r2, matmul(mm, transpose(r2)))
       end associate
+      ! only the local frames' own components: the stick rows measure the
+      ! normal traction whole and the tangential one from the step's start,
+      ! so a normal-tangential coupling (mm is not isotropic, and a fault
+      ! that is not along an axis rotates it into one) made the normal row
+      ! of a step's start differ from the end of the step before by H_NT
+      ! times the tangential change of that step: a dipping fault under an
+      ! in-situ shear drifted by 1.6 % of its displacement per unloaded step
+      do q = 1, 3
+        self%eb(:, :, q, ed) = diag3(self%eb(:, :, q, ed))
+      end do
     end do
   contains
+    !> The diagonal of a 3 x 3 block, as a block.
+    pure function diag3(a) result(b)
+      real(rp), intent(in) :: a(3, 3)
+      real(rp) :: b(3, 3)
+      b = 0.0_rp
+      b(1, 1) = a(1, 1)
+      b(2, 2) = a(2, 2)
+      b(3, 3) = a(3, 3)
+    end function diag3
     !> Diagonal stiffness (x, y, z) of node nd from cell c alone.
     function node_diag(c, nd) result(v)
       integer(ip), intent(in) :: c, nd
@@ -575,6 +594,9 @@ contains
       associate (f => self%faults(self%fault(e)))
         self%pres(e) = lf * f%pressure * f%factor(lf)
       end associate
+      ! the in-situ pore pressure (&geostatic water table) acts on the faces too
+      if (self%mech%geo%on) self%pres(e) = self%pres(e) + &
+        self%mech%geo%pore_pressure(sum(mesh%coords(3, mesh%iface_nodes(:, 1, e))) / 4.0_rp)
     end do
     if (.not. allocated(self%s)) then
       allocate(d(self%mech%u%n_local()), self%s(mesh%n_ifaces))

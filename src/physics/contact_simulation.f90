@@ -52,6 +52,9 @@ module contact_simulation
     real(rp), allocatable :: dx(:)                  !< Newton update of the block vector
     real(rp), allocatable :: dsc(:)                 !< scaling of the block system
     real(rp) :: lf = 0.0_rp                         !< load factor of the step
+    logical :: geo_step = .false.                   !< step 0: the in-situ equilibrium (&geostatic), faults bonded
+    real(rp), allocatable :: u_geo(:)               !< local displacements of step 0 [m]: outputs are measured from them
+    real(rp), allocatable :: jump_geo(:,:)          !< (3, local elements) jumps of step 0 [m]
     type(mesh_pieces_t) :: pieces                   !< connected pieces of the mesh (faults cut them)
     integer(gp) :: open_checked = -1                !< open elements when the pieces were last checked
     integer(gp), allocatable :: fault_counts(:,:)   !< (3, faults) stick/slip/open per fault, last reported
@@ -77,6 +80,7 @@ module contact_simulation
     procedure :: probe_names
     procedure :: sample
     procedure :: report_step
+    procedure :: accept_step
     procedure :: step_notes
     procedure :: controls_group
     procedure :: finish
@@ -105,6 +109,11 @@ contains
     if (status%ok()) call load_fault_histories(self%comm, self%faults, status)
     if (status%ok() .and. self%flow) call read_flow_groups(self, d, log, status)
     if (.not. status%ok()) return
+    if (self%flow .and. self%geo%on) then
+      call status%set("deck '"//trim(d%path)//"': &geostatic is not available for physics = 'fracture_flow' yet "// &
+        "(elasticity and contact only)")
+      return
+    end if
     self%max_newton = self%ccfg%max_newton
     self%max_cuts = self%ccfg%max_cuts
     if (self%solver%method == 'cg') then
@@ -186,7 +195,15 @@ contains
                           self%solver%method /= 'mumps' .and. self%ccfg%block /= 'classical', status)
     end if
     call agree(self%comm, status)
+    if (status%ok()) call self%phys%mech%init_in_situ(mesh, self%geo, self%mats, status)
+    call agree(self%comm, status)
     if (.not. status%ok()) return
+    allocate(self%u_geo(size(self%phys%u)), self%jump_geo(3, mesh%n_ifaces))
+    self%u_geo = 0.0_rp
+    self%jump_geo = 0.0_rp
+    if (self%geo%on) call log%info('geostatic: largest nodal force of the in-situ state out of equilibrium '// &
+      '(the faults carry it): '//trim(rtoa(self%phys%mech%in_situ_imbalance(mesh)))// &
+      ' of the largest nodal weight; step 0 balances it with the faults bonded')
     call self%pieces%build(mesh)
     call check_pieces(self, status)
     if (.not. status%ok()) return
@@ -237,6 +254,7 @@ contains
       return
     end if
     self%lf = t
+    self%geo_step = self%initial_step .and. dt == 0.0_rp
     call self%phys%begin_step(t)
     call self%phys%assemble_stiffness(self%mesh, t)
     call self%phys%take_solution(self%mesh)
@@ -417,7 +435,9 @@ contains
       call phys%sys%block_range(phys%bt, t0, t1)
       phys%x = phys%x + self%dx
       call phys%take_solution(self%mesh)
-      changed = phys%update_states(self%mesh, self%ccfg%status_tol)
+      ! step 0 (&geostatic) balances the in-situ state with the faults bonded
+      changed = 0
+      if (.not. self%geo_step) changed = phys%update_states(self%mesh, self%ccfg%status_tol)
       du = pnorm2(comm, self%dx(u0:u1)) / max(pnorm2(comm, phys%x(u0:u1)), tiny(1.0_rp))
       dt = pnorm2(comm, self%dx(t0:t1)) / max(pnorm2(comm, phys%x(t0:t1)), tiny(1.0_rp))
       n = phys%count_states(self%mesh)
@@ -441,6 +461,38 @@ contains
     if (.not. converged) write(why, '(a,i0,a,es9.2,a,es9.2)') 'last iteration: ', changed, &
       ' status changes, |du|/|u| ', du, ', |dt|/|t| ', dt
   end subroutine update
+
+  !> After step 0 (&geostatic): per fault, the elements whose in-situ
+  !> traction lies beyond the Coulomb limit (tension, or |t_T| > c - tan(phi)
+  !> t_N beyond status_tol): bonded in step 0, they slip or open at step 1.
+  !> Collective.
+  function in_situ_notes(self) result(lines)
+    type(contact_simulation_t), intent(in) :: self
+    character(len=msg_len), allocatable :: lines(:)
+    integer(gp), allocatable :: beyond(:)
+    real(rp) :: tmax, tau
+    integer(ip) :: e
+    integer :: f
+    allocate(beyond(size(self%mesh%fault_names)), lines(0))
+    beyond = 0
+    tmax = self%comm%max(max(0.0_rp, maxval(abs(self%phys%trac(:, 1:self%mesh%iface_map%n_owned)))))
+    do e = 1, self%mesh%iface_map%n_owned
+      associate (t => self%phys%trac(:, e))
+        tau = self%phys%coh(e) - self%phys%fric(e) * t(1)
+        if (t(1) > self%ccfg%status_tol * tmax .or. norm2(t(2:3)) > tau + self%ccfg%status_tol * tmax) &
+          beyond(self%mesh%iface_fault(e)) = beyond(self%mesh%iface_fault(e)) + 1
+      end associate
+    end do
+    call self%comm%sum_all(beyond)
+    do f = 1, size(beyond)
+      if (beyond(f) > 0) lines = [character(len=msg_len) :: lines, "geostatic: fault '"// &
+        trim(self%mesh%fault_names(f))//"': "//itoa(int(beyond(f)))//' element(s) start beyond the Coulomb limit '// &
+        '(bonded in step 0, they slip or open at step 1)']
+    end do
+    lines = [character(len=msg_len) :: lines, 'geostatic: in-situ state balanced with the faults bonded, max |u| '// &
+      'of step 0 = '//trim(rtoa(self%comm%max(max(0.0_rp, maxval(abs(self%phys%u))))))// &
+      ' m (displacements and jumps are measured from it)']
+  end function in_situ_notes
 
   !> Per fault, the elements the active set held in their status in this
   !> step: max_flips status changes (contact.f90), the blocked one between
@@ -480,7 +532,22 @@ contains
       call st%put('x_p', self%phys%x(i0:i1))
     end if
     call st%put('status', self%phys%state)
+    if (self%geo%on) then
+      call st%put('displacement_in_situ', self%u_geo(1:self%phys%mech%u%n_owned()))
+      call st%put('jump_in_situ', reshape(self%jump_geo(:, 1:self%mesh%iface_map%n_owned), &
+                                          [3 * self%mesh%iface_map%n_owned]))
+    end if
   end subroutine save_state
+
+  !> Step 0 (&geostatic) is accepted: its displacements and jumps, the
+  !> balance of the in-situ state on this mesh with the faults bonded,
+  !> become the origin of the outputs'.
+  subroutine accept_step(self)
+    class(contact_simulation_t), intent(inout) :: self
+    if (.not. self%geo_step) return
+    self%u_geo = self%phys%u
+    self%jump_geo = self%phys%jump
+  end subroutine accept_step
 
   subroutine load_state(self, st, status)
     class(contact_simulation_t), intent(inout) :: self
@@ -497,8 +564,25 @@ contains
     end if
     call st%get('status', self%phys%state, status)
     call self%phys%take_solution(self%mesh)
+    if (self%geo%on) call load_in_situ(self, st, status)
     self%fault_counts = counts_per_fault(self)
   end subroutine load_state
+
+  !> The step-0 state of a checkpoint (&geostatic): displacements and jumps.
+  subroutine load_in_situ(self, st, status)
+    type(contact_simulation_t), intent(inout) :: self
+    type(state_record_t), intent(in) :: st
+    type(error_status_t), intent(inout) :: status
+    real(rp), allocatable :: jg(:)
+    integer(ip) :: no
+    no = self%mesh%iface_map%n_owned
+    allocate(jg(3 * no))
+    call st%get('displacement_in_situ', self%u_geo(1:self%phys%mech%u%n_owned()), status)
+    call st%get('jump_in_situ', jg, status)
+    if (.not. status%ok()) return
+    call self%phys%mech%u%map%import(self%u_geo)
+    self%jump_geo(:, 1:no) = reshape(jg, [3, int(no)])
+  end subroutine load_in_situ
 
   !> displacement, stress, region, rank (mesh grid) and the fault fields
   !> (fractures grid, fracture_output.f90; status there 0 stick, 1 slip, 2 open).
@@ -509,11 +593,12 @@ contains
     real(rp), allocatable :: stress(:,:)
     allocate(stress(6, self%mesh%cell_map%n_owned))
     call self%phys%mech%cell_stress(self%mesh, self%phys%u, stress)
-    call out%write_displacement(self%mesh, self%phys%u, status)
+    call out%write_displacement(self%mesh, self%phys%u - self%u_geo, status)
     if (status%ok()) call out%writer%cell_field('stress', stress, status)
     call out%write_mesh_ids(self%mesh, status)
     ! the output's status codes count from 0 (state_stick = 1, slip 2, open 3)
-    if (status%ok()) call self%fout%write_step(out, self%mesh, self%phys%trac, self%phys%jump, self%phys%state - 1, &
+    if (status%ok()) call self%fout%write_step(out, self%mesh, self%phys%trac, self%phys%jump - self%jump_geo, &
+                                                self%phys%state - 1, &
                                                 self%phys%rot, self%phys%fric, self%phys%coh, status)
     if (self%flow .and. status%ok()) then
       associate (n => self%mesh%iface_map%n_owned)
@@ -542,7 +627,7 @@ contains
     real(rp), allocatable :: smax(:), area(:)
     integer(ip) :: e
     integer :: f, nf
-    pf%u = self%phys%u
+    pf%u = self%phys%u - self%u_geo
     allocate(pf%stress(6, self%mesh%cell_map%n_owned))
     call self%phys%mech%cell_stress(self%mesh, self%phys%u, pf%stress)
     nf = size(self%mesh%fault_names)
@@ -551,7 +636,7 @@ contains
     area = 0.0_rp
     do e = 1, self%mesh%iface_map%n_owned
       f = self%mesh%iface_fault(e)
-      smax(f) = max(smax(f), norm2(self%phys%jump(2:3, e)))
+      smax(f) = max(smax(f), norm2(self%phys%jump(2:3, e) - self%jump_geo(2:3, e)))
       if (self%phys%state(e) == state_slip) area(f) = area(f) + self%phys%area(e)
     end do
     call self%comm%sum_all(area)
@@ -700,6 +785,7 @@ contains
     end do
     lines = lines(1:n)
     self%fault_counts = now
+    if (self%geo_step) lines = [lines, in_situ_notes(self)]
   contains
     function counts_text(c) result(t)
       integer(gp), intent(in) :: c(3)
@@ -730,7 +816,7 @@ contains
     integer(ip) :: e
     max_slip = 0.0_rp
     do e = 1, self%mesh%iface_map%n_owned
-      max_slip = max(max_slip, norm2(self%phys%jump(2:3, e)))
+      max_slip = max(max_slip, norm2(self%phys%jump(2:3, e) - self%jump_geo(2:3, e)))
     end do
     max_slip = self%comm%max(max_slip)
   end function max_slip
@@ -750,6 +836,7 @@ contains
     call self%mgr%free()
     call self%phys%free()
     if (allocated(self%dx)) deallocate(self%dx, self%dsc)
+    if (allocated(self%u_geo)) deallocate(self%u_geo, self%jump_geo)
   end subroutine free
   !> The resolved groups: the shared ones, then every &fault and &contact.
   subroutine parameter_groups(self, groups)

@@ -37,6 +37,8 @@ module elastic_simulation
     logical :: pc_ready = .false.
     logical :: solved = .false.                !< K has been handed to a solver (it does not change)
     real(rp) :: t = 0.0_rp                     !< load factor of the step
+    logical :: geo_step = .false.              !< this is step 0, the in-situ equilibrium (&geostatic)
+    real(rp), allocatable :: u_geo(:)          !< local displacements of step 0 [m]: outputs are measured from them
   contains
     procedure :: name
     procedure :: read_deck
@@ -52,6 +54,8 @@ module elastic_simulation
     procedure :: probe_names
     procedure :: sample
     procedure :: report_step
+    procedure :: accept_step
+    procedure :: step_notes
     procedure :: finish
     procedure :: free
   end type elastic_simulation_t
@@ -90,16 +94,21 @@ contains
     self%mesh => mesh
     call self%mech%init(mesh, self%mats, self%bcs, status)
     call agree(self%comm, status)
+    if (status%ok()) call self%mech%init_in_situ(mesh, self%geo, self%mats, status)
+    call agree(self%comm, status)
     if (.not. status%ok()) return
+    if (self%geo%on) call log%info('geostatic: largest nodal force of the in-situ state out of equilibrium: '// &
+      trim(rtoa(self%mech%in_situ_imbalance(mesh)))//' of the largest nodal weight; step 0 balances it')
     call pieces%build(mesh)
     call self%mech%check_anchored(mesh, pieces, status)
     call pieces%free()
     if (.not. status%ok()) return
     call log%info('displacement dofs: '//itoa(int(self%mech%u%map%n_global))//', matrix non-zeros: '// &
                   itoa(int(self%mech%k%global_nnz())))
-    allocate(self%x(self%mech%u%n_owned()), self%u_loc(self%mech%u%n_local()))
+    allocate(self%x(self%mech%u%n_owned()), self%u_loc(self%mech%u%n_local()), self%u_geo(self%mech%u%n_local()))
     self%x = 0.0_rp
     self%u_loc = 0.0_rp
+    self%u_geo = 0.0_rp
     if (self%solver%method == 'mumps') then
       call log%info('linear solver: MUMPS direct solver')
     else
@@ -114,6 +123,7 @@ contains
     real(rp), intent(in) :: t, dt
     type(error_status_t), intent(inout) :: status
     self%t = t
+    self%geo_step = self%initial_step .and. dt == 0.0_rp
     call self%mech%set_time(t)
   end subroutine begin_step
 
@@ -175,10 +185,28 @@ contains
     why = ''
   end subroutine update
 
+  !> Step 0 (&geostatic) is accepted: its displacements, the balance of the
+  !> in-situ state on this mesh, become the origin of the outputs'.
+  subroutine accept_step(self)
+    class(elastic_simulation_t), intent(inout) :: self
+    if (self%geo_step) self%u_geo = self%u_loc
+  end subroutine accept_step
+
+  !> After step 0 (&geostatic): the size of the balancing displacements.
+  subroutine step_notes(self, lines)
+    class(elastic_simulation_t), intent(inout) :: self
+    character(len=msg_len), allocatable, intent(out) :: lines(:)
+    allocate(lines(0))
+    if (.not. self%geo_step) return
+    lines = [character(len=msg_len) :: 'geostatic: in-situ state balanced, max |u| of step 0 = '// &
+      trim(rtoa(pmax_abs(self%comm, self%x)))//' m (displacements are measured from it)']
+  end subroutine step_notes
+
   subroutine save_state(self, st)
     class(elastic_simulation_t), intent(inout) :: self
     type(state_record_t), intent(inout) :: st
     call st%put('displacement', self%x)
+    if (self%geo%on) call st%put('displacement_in_situ', self%u_geo(1:size(self%x)))
   end subroutine save_state
 
   subroutine load_state(self, st, status)
@@ -188,6 +216,10 @@ contains
     call st%get('displacement', self%x, status)
     self%u_loc(1:size(self%x)) = self%x
     call self%mech%u%map%import(self%u_loc)
+    if (self%geo%on) then
+      call st%get('displacement_in_situ', self%u_geo(1:size(self%x)), status)
+      call self%mech%u%map%import(self%u_geo)
+    end if
   end subroutine load_state
 
   !> displacement [m] per node; stress [Pa] (Tensor6 xx yy zz xy yz xz,
@@ -199,7 +231,7 @@ contains
     real(rp), allocatable :: stress(:,:)
     allocate(stress(6, self%mesh%cell_map%n_owned))
     call self%mech%cell_stress(self%mesh, self%u_loc, stress)
-    call out%write_displacement(self%mesh, self%u_loc, status)
+    call out%write_displacement(self%mesh, self%u_loc - self%u_geo, status)
     if (status%ok()) call out%writer%cell_field('stress', stress, status)
     call out%write_mesh_ids(self%mesh, status)
   end subroutine write_output
@@ -215,7 +247,7 @@ contains
     class(elastic_simulation_t), intent(inout) :: self
     type(probe_fields_t), intent(inout) :: pf
     type(error_status_t), intent(inout) :: status
-    pf%u = self%u_loc
+    pf%u = self%u_loc - self%u_geo
     allocate(pf%stress(6, self%mesh%cell_map%n_owned))
     call self%mech%cell_stress(self%mesh, self%u_loc, pf%stress)
   end subroutine sample
@@ -232,7 +264,7 @@ contains
   subroutine finish(self, log)
     class(elastic_simulation_t), intent(inout) :: self
     type(logger_t), intent(inout) :: log
-    call log%info('max |u| = '//rtoa(pmax_abs(self%comm, self%x))//' m')
+    call log%info('max |u| = '//rtoa(pmax_abs(self%comm, self%x - self%u_geo(1:size(self%x))))//' m')
   end subroutine finish
 
   subroutine free(self)
@@ -242,7 +274,7 @@ contains
       deallocate(self%pc)
     end if
     call self%mech%free()
-    if (allocated(self%x)) deallocate(self%x, self%u_loc)
+    if (allocated(self%x)) deallocate(self%x, self%u_loc, self%u_geo)
     self%pc_ready = .false.
     self%solved = .false.
   end subroutine free

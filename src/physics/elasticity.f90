@@ -24,6 +24,8 @@ module elasticity
   use vector_function, only: vector_function_t
   use mesh_pieces, only: mesh_pieces_t
   use rigid_modes, only: check_rigid_modes
+  use geostatic, only: geostatic_t
+  use geostatic_config, only: geostatic_config_t
   implicit none
   private
 
@@ -44,8 +46,12 @@ module elasticity
     integer(ip), allocatable :: trac_bc(:)   !< per traction face: its condition
     type(boundary_config_t), allocatable :: bcs(:)
     real(rp), allocatable :: bc_factor(:)    !< history factor of each condition at the current time
+    type(geostatic_t) :: geo                 !< the in-situ state (&geostatic), if any
+    integer(ip), allocatable :: geo_face(:)  !< boundary faces of owned cells held by the in-situ stress
   contains
     procedure :: init
+    procedure :: init_in_situ
+    procedure :: in_situ_imbalance
     procedure :: assemble
     procedure :: assemble_into
     procedure :: element_stiffness
@@ -264,7 +270,7 @@ contains
       do a = 1, 8
         dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
       end do
-      loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp)
+      loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp) .or. self%geo%on
       ! known values of the prescribed dofs; only nonzero ones lift the right-hand side
       lifted = .false.
       do j = 1, 24
@@ -292,6 +298,7 @@ contains
         end do
       end if
       fe = lf * fe
+      if (self%geo%on) call in_situ_cell(self, mesh, c, fe)
       ! prescribed dofs: move their known values to the right-hand side
       do j = 1, 24
         if (.not. self%fixed(dofs(j))) cycle
@@ -329,6 +336,7 @@ contains
       end do
     end do
 
+    if (self%geo%on) call in_situ_faces(self, mesh, f_loc)
     if (matrix) call k%finalize_assembly()
     call self%u%map%export_add(f_loc)
     nown = self%u%n_owned()
@@ -370,6 +378,136 @@ contains
     end function prescribed
   end subroutine assemble_into
 
+  !> The in-situ state of cfg (&geostatic; nothing when it is off): the
+  !> state itself and the boundary faces its stress holds (every boundary
+  !> face of an owned cell but the two sides of a fault, where the
+  !> tractions are unknowns). Call after init. Collective.
+  subroutine init_in_situ(self, mesh, cfg, mats, status)
+    class(elasticity_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    type(geostatic_config_t), intent(in) :: cfg
+    type(material_config_t), intent(in) :: mats(:)
+    type(error_status_t), intent(inout) :: status
+    logical, allocatable :: fault_side(:)
+    integer(ip) :: e, s, c, k, f, n
+    call self%geo%init(cfg, mats, mesh, status)
+    if (.not. (self%geo%on .and. status%ok())) return
+    allocate(fault_side(mesh%n_faces))
+    fault_side = .false.
+    do e = 1, mesh%n_ifaces
+      do s = 1, 2
+        c = mesh%iface_cells(s, e)
+        if (c < 1) cycle
+        do k = 1, 6
+          f = mesh%cell_faces(k, c)
+          if (f < 1) cycle
+          if (all([(any(mesh%face_nodes(:, f) == mesh%iface_nodes(n, s, e)), n = 1, 4)])) fault_side(f) = .true.
+        end do
+      end do
+    end do
+    allocate(self%geo_face(mesh%n_faces))
+    n = 0
+    do f = 1, mesh%n_faces
+      if (.not. mesh%face_on_boundary(f) .or. fault_side(f)) cycle
+      c = mesh%face_cells(1, f)
+      if (c < 1 .or. c > mesh%cell_map%n_owned) cycle
+      n = n + 1
+      self%geo_face(n) = f
+    end do
+    self%geo_face = self%geo_face(1:n)
+  end subroutine init_in_situ
+
+  !> fe(24) += the in-situ load of owned cell c: its weight less the work of
+  !> the in-situ total stress, integral of N rho g - B^T sigma_0 (not scaled
+  !> by the load factor: the state is there before any load).
+  subroutine in_situ_cell(self, mesh, c, fe)
+    type(elasticity_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: c
+    real(rp), intent(inout) :: fe(24)
+    real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, sig(3, 3), wt
+    integer(ip) :: q, a, r
+    call gauss_hex(2_ip, xi, w)
+    x = mesh%coords(:, mesh%cell_nodes(:, c))
+    r = mesh%cell_region(c)
+    wt = self%geo%weight(r)
+    do q = 1, 8
+      call hex_gradients(x, xi(:, q), n, g, det)
+      det = det * w(q)
+      sig = self%geo%total_stress(r, dot_product(x(3, :), n))
+      do a = 1, 8
+        fe(3*a-2:3*a) = fe(3*a-2:3*a) - det * matmul(sig, g(:, a))
+        fe(3*a) = fe(3*a) - det * n(a) * wt
+      end do
+    end do
+  end subroutine in_situ_cell
+
+  !> f_loc += the in-situ tractions sigma_0 n on the boundary faces the
+  !> surrounding rock holds (geo_face): a model cut out of the ground stays
+  !> in place under its own state whatever its boundary conditions.
+  subroutine in_situ_faces(self, mesh, f_loc)
+    type(elasticity_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(inout) :: f_loc(:)
+    real(rp) :: xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), av(3), tr(3)
+    integer(ip) :: k, f, q, a, r
+    call gauss_quad(2_ip, xiq, wq)
+    do k = 1, size(self%geo_face, kind=ip)
+      f = self%geo_face(k)
+      r = mesh%cell_region(mesh%face_cells(1, f))
+      xf = mesh%coords(:, mesh%face_nodes(:, f))
+      do q = 1, 4
+        call quad_shape(xiq(:, q), nq, dnq)
+        av = quad_area_vector(xf, xiq(:, q))
+        tr = matmul(self%geo%total_stress(r, dot_product(xf(3, :), nq)), av) * wq(q)
+        do a = 1, 4
+          associate (d => self%u%dof(mesh%face_nodes(a, f), [1_ip, 2_ip, 3_ip]))
+            f_loc(d) = f_loc(d) + nq(a) * tr
+          end associate
+        end do
+      end do
+    end do
+  end subroutine in_situ_faces
+
+  !> How far the in-situ state is from equilibrium on this mesh: the
+  !> largest nodal force of its load (in_situ_cell and in_situ_faces, free
+  !> dofs only) over the largest nodal weight. Round-off for layers bounded
+  !> by horizontal planes; with faults, the forces their tractions must carry.
+  !> Collective.
+  real(rp) function in_situ_imbalance(self, mesh) result(ratio)
+    class(elasticity_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), allocatable :: f_loc(:), w_loc(:)
+    real(rp) :: fe(24), we(24), wmax
+    integer(ip) :: c, a, dofs(24)
+    type(parallel_comm_t) :: comm
+    ratio = 0.0_rp
+    if (.not. self%geo%on) return
+    comm = mesh%comm
+    allocate(f_loc(self%u%n_local()), w_loc(self%u%n_local()))
+    f_loc = 0.0_rp
+    w_loc = 0.0_rp
+    do c = 1, mesh%cell_map%n_owned
+      do a = 1, 8
+        dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
+      end do
+      fe = 0.0_rp
+      call in_situ_cell(self, mesh, c, fe)
+      we = 0.0_rp
+      we(3::3) = self%geo%weight(mesh%cell_region(c)) * mesh%cell_volume(c) / 8.0_rp
+      f_loc(dofs) = f_loc(dofs) + fe
+      w_loc(dofs) = w_loc(dofs) + we
+    end do
+    call in_situ_faces(self, mesh, f_loc)
+    call self%u%map%export_add(f_loc)
+    call self%u%map%export_add(w_loc)
+    associate (nown => self%u%n_owned())
+      where (self%fixed(1:nown)) f_loc(1:nown) = 0.0_rp
+      wmax = comm%max(maxval(abs(w_loc(1:nown)), dim=1))
+      ratio = comm%max(maxval(abs(f_loc(1:nown)), dim=1)) / max(wmax, tiny(1.0_rp))
+    end associate
+  end function in_situ_imbalance
+
   !> Cauchy stress at the centre of each owned cell, from the displacement
   !> u_loc (all local dofs, ghosts up to date). Components in the order
   !> ParaView labels a 6-component symmetric tensor: xx, yy, zz, xy, yz, xz [Pa].
@@ -393,6 +531,7 @@ contains
       do a = 1, 3
         sig(a, a) = sig(a, a) + self%lambda(r) * (eps(1,1) + eps(2,2) + eps(3,3))
       end do
+      if (self%geo%on) sig = sig + self%geo%effective_stress(r, sum(x(3, :)) / 8.0_rp)
       stress(:, c) = [sig(1,1), sig(2,2), sig(3,3), sig(1,2), sig(2,3), sig(1,3)]
     end do
   end subroutine cell_stress
@@ -461,6 +600,8 @@ contains
 
   subroutine free(self)
     class(elasticity_t), intent(inout) :: self
+    if (allocated(self%geo_face)) deallocate(self%geo_face)
+    self%geo = geostatic_t()
     call self%k%free()
     call self%u%free()
     if (allocated(self%rhs)) deallocate(self%rhs)

@@ -42,13 +42,14 @@ module simulation
   use state_record, only: state_record_t
   use linear_system, only: linear_system_t
   use amg_params, only: amg_params_t
-  use deck, only: deck_t
+  use deck, only: deck_t, unset_real
   use mesh_config, only: mesh_config_t
   use solver_config, only: solver_config_t
   use amg_config, only: read_amg_config, describe_amg_config
   use param_group, only: param_group_t
   use fsai_config, only: fsai_config_t
   use material_config, only: material_config_t, read_materials
+  use geostatic_config, only: geostatic_config_t
   use boundary_config, only: boundary_config_t, read_boundaries, load_histories
   use fault_config, only: fault_config_t
   use dist_mesh, only: dist_mesh_t
@@ -90,6 +91,8 @@ module simulation
     logical :: transient = .false.                         !< time steps (dt, t_end) rather than load steps
     integer :: max_newton = 1                              !< iterations per step (1: linear)
     integer :: max_cuts = 0                                !< halvings of a step that does not converge
+    type(geostatic_config_t) :: geo                        !< &geostatic (geo%on: the run starts in situ)
+    logical :: initial_step = .false.                      !< a step 0 at t = 0 before any load (geostatic)
   contains
     procedure(name_iface), deferred :: name
     procedure(read_deck_iface), deferred :: read_deck
@@ -256,7 +259,15 @@ contains
     if (status%ok()) call read_amg_config(d, log, self%amg, status)
     if (status%ok()) call self%fsai%read(d, log, status)
     if (status%ok()) call load_histories(self%comm, self%bcs, status)
+    if (status%ok()) call self%geo%read(d, log, status)
+    if (status%ok()) call check_in_situ(self, d, status)
     if (.not. status%ok()) return
+    self%initial_step = self%geo%on
+    if (self%geo%on .and. flow_conditions) then
+      call status%set("deck '"//trim(d%path)//"': &geostatic is not available for physics = 'biot' yet "// &
+        "(elasticity and contact only)")
+      return
+    end if
     if (.not. with_faults .and. d%count('fault') > 0) then
       call status%set("deck '"//trim(d%path)//"': &fault groups need physics = 'contact' in &run")
       return
@@ -270,6 +281,32 @@ contains
       end if
     end do
   end subroutine read_common
+
+  !> &material density and k0 belong to &geostatic: required (density) with
+  !> it, refused without it; gravity comes from &geostatic, so a material's
+  !> body_force would count it twice.
+  subroutine check_in_situ(self, d, status)
+    class(simulation_t), intent(in) :: self
+    type(deck_t), intent(in) :: d
+    type(error_status_t), intent(inout) :: status
+    integer :: k
+    do k = 1, size(self%mats)
+      associate (m => self%mats(k))
+        if (self%geo%on) then
+          if (m%density == unset_real) call d%fail(status, 'material', k, 'density', &
+            'required with &geostatic (the in-situ stress is the weight of the layers above)')
+          if (any(m%body_force /= 0.0_rp)) call d%fail(status, 'material', k, 'body_force', &
+            'not with &geostatic, whose gravity acts on the density (the weight would count twice)')
+        else
+          if (m%density /= unset_real) call d%fail(status, 'material', k, 'density', &
+            'is used only with a &geostatic group (for a load, use body_force)')
+          if (m%k0 /= unset_real) call d%fail(status, 'material', k, 'k0', &
+            'is used only with a &geostatic group')
+        end if
+      end associate
+      if (.not. status%ok()) return
+    end do
+  end subroutine check_in_situ
 
   !> Add the physics' own grids to the output (default: none). Collective.
   subroutine open_output(self, out, status)
@@ -341,6 +378,7 @@ contains
       'time%t_end', 'time%dt_growth', 'time%dt_max', 'time%times', 'time%undrained']
     character(len=foreign_len), allocatable :: own(:)
     call self%foreign_inputs(own)
+    if (.not. self%geo%on) own = [own, [character(len=foreign_len) :: 'material%density', 'material%k0']]
     if (self%transient) then
       list = [own, [character(len=foreign_len) :: 'time%n_steps']]
     else
@@ -397,7 +435,7 @@ contains
     class(simulation_t), intent(in) :: sim
     type(param_group_t), allocatable, intent(out) :: groups(:)
     integer :: k, n
-    allocate(groups(size(sim%mats) + size(sim%bcs) + 4))
+    allocate(groups(size(sim%mats) + size(sim%bcs) + merge(5, 4, sim%geo%on)))
     n = 0
     do k = 1, size(sim%mats)
       n = n + 1
@@ -410,5 +448,6 @@ contains
     call sim%solver%describe(groups(n + 1))
     call describe_amg_config(sim%amg, groups(n + 2))
     call sim%fsai%describe(groups(n + 3), groups(n + 4))
+    if (sim%geo%on) call sim%geo%describe(groups(n + 5))
   end subroutine common_parameter_groups
 end module simulation

@@ -123,7 +123,7 @@ contains
     call agree(comm, status)
     if (status%ok()) call newton%init(comm, sim, 'build/test-out/simulation_residuals.csv', &
                                           'build/test-out/simulation', .false., status)
-    if (status%ok()) call schedule%init(run, sim%transient)
+    if (status%ok()) call schedule%init(run, sim%transient, sim%initial_step)
     ok = status%ok()
     if (.not. ok .and. comm%is_root()) print '(a)', '  '//trim(status%msg)
   end subroutine prepare
