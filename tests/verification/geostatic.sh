@@ -21,7 +21,8 @@
 #     unloaded steps after it change nothing (slip below 1e-12 m); with a
 #     friction angle of 10 degrees (the in-situ ratio |t_T| / |t_N| is
 #     0.247, 13.9 degrees) the log names the fault's elements beyond the
-#     Coulomb limit and step 1 slips.
+#     Coulomb limit and step 1 slips;
+#  5. a restart after step 2 of 3 of that run gives the continuous step 3.
 # Bad decks of &geostatic are in tests/decks/bad_geostatic_*.nml.
 set -u
 cd "$(dirname "$0")/../.."
@@ -173,6 +174,23 @@ if run weak 2; then
   else ko "friction 10 degrees: step 1 does not slip: $(grep -m1 '^load step 1/2' "$out/weak.out")"; fi
   if grep -q "start beyond the Coulomb limit" "$out/dip.out"; then ko "friction 30 degrees: elements said beyond the limit"
   else ok "friction 30 degrees: no element beyond the Coulomb limit"; fi
+fi
+
+# 5. restart: a checkpoint after step 2 of 3 (the in-situ origin of the
+# displacements and jumps goes with it) gives step 3 of the continuous run
+sed -e "s#prefix = 'weak'#prefix = 'cont', checkpoint_every = 2#" -e 's/n_steps = 2/n_steps = 3/' "$out/weak.nml" > "$out/cont.nml"
+if run cont 2; then
+  cp "$out/cont_0003.h5" "$out/cont_full_0003.h5"
+  sed "s#^&run#\&run\n  restart = '$out/cont_checkpoint.h5'#" "$out/cont.nml" > "$out/cont_restart.nml"
+  if run cont_restart 2; then
+    report "restart after step 2 of 3" $PY -c "
+import h5py, numpy as np, sys
+a, b = h5py.File('$out/cont_full_0003.h5', 'r'), h5py.File('$out/cont_0003.h5', 'r')
+d = max(np.abs(a[k][:] - b[k][:]).max() / np.abs(a[k][:]).max() for k in
+        ('displacement', 'stress', 'fractures/slip', 'fractures/normal_traction'))
+print(('ok' if d <= 1e-12 else 'FAIL') + f': step 3 restarted against continuous: relative difference {d:.1e} (tol 1e-12)')
+"
+  fi
 fi
 echo "suite geostatic: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
