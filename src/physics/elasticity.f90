@@ -97,7 +97,8 @@ contains
     end do
     do i = 1, size(mats, kind=ip)
       if (mesh%region_id(mats(i)%region) == 0) then
-        call status%set("&material for region '"//trim(mats(i)%region)//"', which the mesh does not have")
+        call status%set("&material for region '"//trim(mats(i)%region)//"', which the mesh does not have "// &
+                        '(its regions: '//mesh%region_list()//')')
         return
       end if
     end do

@@ -157,7 +157,8 @@ contains
     do i = 1, size(srcs, kind=ip)
       r = mesh%region_id(srcs(i)%region)
       if (r == 0) then
-        call status%set("&source in region '"//trim(srcs(i)%region)//"', which the mesh does not have")
+        call status%set("&source in region '"//trim(srcs(i)%region)//"', which the mesh does not have "// &
+                        '(its regions: '//mesh%region_list()//')')
         return
       end if
       self%src_rate(r) = self%src_rate(r) + srcs(i)%rate
