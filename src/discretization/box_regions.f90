@@ -11,7 +11,8 @@ module box_regions
   use error_status, only: error_status_t
   use mesh, only: mesh_t
   use region_config, only: region_config_t, default_region
-  use strings, only: itoa, rtoa
+  use strings, only: itoa
+  use face_box, only: box_text
   implicit none
   private
 
@@ -52,12 +53,12 @@ contains
     do k = 1, nr
       if (inside(k) == 0) then
         call status%set("box mesh: &region '"//trim(regions(k)%name)//"' ("//trim(regions(k)%origin)// &
-          '): no cell centre lies in its box '//box_text(regions(k))//'; widen the box or refine the mesh')
+          '): no cell centre lies in its box '//box_text(regions(k)%lower, regions(k)%upper)//'; widen the box or refine the mesh')
         return
       else if (kept(k) == 0) then
         call status%set("box mesh: &region '"//trim(regions(k)%name)//"' ("//trim(regions(k)%origin)//'): all '// &
-          itoa(inside(k))//' cells of its box '//box_text(regions(k))//' belong to later &region groups '// &
-          '(later groups win); it would have no cell')
+          itoa(inside(k))//' cells of its box '//box_text(regions(k)%lower, regions(k)%upper)// &
+          ' belong to later &region groups (later groups win); it would have no cell')
         return
       end if
     end do
@@ -79,28 +80,4 @@ contains
     allocate(mesh%region_names(n_new))
     mesh%region_names = names(1:n_new)
   end subroutine assign_box_regions
-
-  !> '[x0, y0, z0] to [x1, y1, z1]' with open bounds as '-inf' / 'inf'.
-  function box_text(r) result(s)
-    type(region_config_t), intent(in) :: r
-    character(len=:), allocatable :: s
-    s = '['//bounds(r%lower)//'] to ['//bounds(r%upper)//']'
-  end function box_text
-
-  function bounds(v) result(s)
-    real(rp), intent(in) :: v(3)
-    character(len=:), allocatable :: s
-    integer :: i
-    s = ''
-    do i = 1, 3
-      if (i > 1) s = s//', '
-      if (v(i) <= -huge(1.0_rp)) then
-        s = s//'-inf'
-      else if (v(i) >= huge(1.0_rp)) then
-        s = s//'inf'
-      else
-        s = s//rtoa(v(i))
-      end if
-    end do
-  end function bounds
 end module box_regions
