@@ -16,6 +16,12 @@
 !>   type = 'pressure' (biot): pressure  prescribed fluid pressure [Pa]     [required]
 !>   type = 'flux' (biot):     flux      prescribed outward normal Darcy
 !>                             flux [m/s]                                  [required]
+!>   lower(3), upper(3)  the condition acts only on the faces of the set
+!>                whose centres lie in [lower, upper] [m] (to 1e-9 of the
+!>                mesh's extent; a component left out is open on that side;
+!>                lower < upper); every type. A displacement condition fixes
+!>                the nodes of those faces. A box that selects no face of the
+!>                set is refused (by the physics, which sees the mesh)    [the whole set]
 !>   history      optional file of "time factor" rows (# comments): the
 !>                condition's value is multiplied by the factor, linearly
 !>                interpolated in time (constant before the first and after
@@ -32,6 +38,7 @@ module boundary_config
   use history_file, only: read_history, history_factor
   use os_services, only: absolute_path
   use param_group, only: param_group_t
+  use strings, only: rtoa
   implicit none
   private
 
@@ -48,8 +55,10 @@ module boundary_config
     real(rp) :: value(3) = 0.0_rp          !< displacement [m] or traction [Pa]
     character(len=path_len) :: history = ''
     real(rp), allocatable :: hist_t(:), hist_f(:)
+    real(rp) :: lower(3) = -huge(1.0_rp), upper(3) = huge(1.0_rp)   !< [m], +-huge: open
   contains
     procedure :: factor
+    procedure :: has_box
     procedure :: describe => describe_boundary
   end type boundary_config_t
 
@@ -63,17 +72,19 @@ contains
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: set
     character(len=16) :: type
-    real(rp) :: ux, uy, uz, traction(3), normal_traction, pressure, flux
+    real(rp) :: ux, uy, uz, traction(3), normal_traction, pressure, flux, lower(3), upper(3)
     character(len=path_len) :: history
-    integer :: k, ios
+    integer :: k, ios, i
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    namelist /boundary/ set, type, ux, uy, uz, traction, normal_traction, pressure, flux, history
+    character(len=1) :: ax
+    namelist /boundary/ set, type, ux, uy, uz, traction, normal_traction, pressure, flux, history, lower, upper
 
     allocate(bcs(d%count('boundary')))
     do k = 1, size(bcs)
       set = ''; type = ''; ux = unset_real; uy = unset_real; uz = unset_real; traction = unset_real
       normal_traction = unset_real; pressure = unset_real; flux = unset_real; history = ''
+      lower = -huge(1.0_rp); upper = huge(1.0_rp)
       call d%block('boundary', k, b)
       read(b, nml=boundary, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -83,6 +94,13 @@ contains
       if (len_trim(set) == 0) call d%fail(status, 'boundary', k, 'set', 'required')
       bcs(k)%set = set
       bcs(k)%type = type
+      do i = 1, 3
+        write(ax, '(i1)') i
+        if (.not. lower(i) < upper(i)) call d%fail(status, 'boundary', k, 'upper('//ax//')', &
+          'must be greater than lower('//ax//') (got lower '//rtoa(lower(i))//', upper '//rtoa(upper(i))//')')
+      end do
+      bcs(k)%lower = lower
+      bcs(k)%upper = upper
       call d%input_path('boundary', k, 'history', history, bcs(k)%history, status)
       select case (type)
       case ('displacement')
@@ -156,8 +174,16 @@ contains
     case ('flux')
       call g%add('flux', self%value(1), 'm/s', 'prescribed outward normal Darcy flux')
     end select
+    call g%add_bounds('lower', self%lower, '(open)', 'm', 'lower corner of the box of the face centres it acts on')
+    call g%add_bounds('upper', self%upper, '(open)', 'm', 'upper corner of the box of the face centres it acts on')
     call g%add('history', absolute_path(self%history), '-', "file of 'time factor' rows scaling the value ('': none)")
   end subroutine describe_boundary
+
+  !> Whether the condition acts on part of its set only (lower or upper given).
+  logical function has_box(self)
+    class(boundary_config_t), intent(in) :: self
+    has_box = any(self%lower > -huge(1.0_rp)) .or. any(self%upper < huge(1.0_rp))
+  end function has_box
 
   !> Multiplier of the condition's value at time t (1 without a history).
   real(rp) function factor(self, t)

@@ -37,6 +37,7 @@ module mesh_config
   use os_services, only: absolute_path
   use param_group, only: param_group_t
   use machine_memory, only: total_memory_bytes
+  use region_config, only: region_config_t, read_regions
   implicit none
   private
 
@@ -53,9 +54,11 @@ module mesh_config
     integer(ip) :: core_n(3) = 0
     real(rp) :: core_lower(3) = 0.0_rp, core_upper(3) = 0.0_rp   !< [m], used where core_n > 0
     real(rp) :: memory_limit = 0.0_rp                            !< [GB], 0 = MemTotal
+    type(region_config_t), allocatable :: regions(:)             !< &region groups (box only)
   contains
     procedure :: read => read_mesh_config
     procedure :: describe => describe_mesh_config
+    procedure :: describe_regions
     procedure :: check_size
   end type mesh_config_t
 
@@ -170,6 +173,7 @@ contains
     self%core_upper = merge(core_upper, 0.0_rp, core_n > 0)
     where (core_lower == unset_real) core_lower = 0.0_rp
     where (core_upper == unset_real) core_upper = 0.0_rp
+    if (status%ok()) call read_regions(d, log, self%source, self%regions, status)
   end subroutine read_mesh_config
 
   !> The resolved &mesh group: for a box its sizes (the core only when some
@@ -200,6 +204,20 @@ contains
       call g%add('core_upper', self%core_upper, 'm', 'upper corner of the core (axes with core_n > 0)')
     end if
   end subroutine describe_mesh_config
+
+  !> The resolved &region groups, one per region (none without them).
+  subroutine describe_regions(self, groups)
+    class(mesh_config_t), intent(in) :: self
+    type(param_group_t), allocatable, intent(out) :: groups(:)
+    integer :: k
+    allocate(groups(0))
+    if (.not. allocated(self%regions)) return
+    deallocate(groups)
+    allocate(groups(size(self%regions)))
+    do k = 1, size(self%regions)
+      call self%regions(k)%describe(groups(k))
+    end do
+  end subroutine describe_regions
 
   !> Cells nx*ny*nz and nodes (nx+1)(ny+1)(nz+1) must be default integers
   !> (products formed in double precision: no integer overflow).

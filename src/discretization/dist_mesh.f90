@@ -67,6 +67,7 @@ module dist_mesh
     procedure :: n_owned_faces
     procedure :: set_id
     procedure :: region_id
+    procedure :: region_list
     procedure :: cell_volume
     procedure :: node_keys
     procedure :: iface_keys
@@ -495,6 +496,18 @@ contains
       if (self%set_names(i) == name) set_id = i
     end do
   end function set_id
+
+  !> The region names, quoted and separated by commas (for messages).
+  function region_list(self) result(s)
+    class(dist_mesh_t), intent(in) :: self
+    character(len=:), allocatable :: s
+    integer :: r
+    s = ''
+    do r = 1, size(self%region_names)
+      if (r > 1) s = s//', '
+      s = s//"'"//trim(self%region_names(r))//"'"
+    end do
+  end function region_list
 
   !> Index of the named region, 0 if none.
   integer(ip) function region_id(self, name)

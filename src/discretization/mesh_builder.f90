@@ -9,6 +9,7 @@ module mesh_builder
   use logger, only: logger_t
   use mesh, only: mesh_t
   use box_mesh, only: build_box_mesh
+  use box_regions, only: assign_box_regions
   use gmsh_reader, only: read_gmsh
   use fault_config, only: fault_config_t
   use fault_split, only: split_faults
@@ -46,6 +47,7 @@ contains
       case ('box')
         call build_box_mesh(gmesh, cfg%n, cfg%lower, cfg%upper, cfg%grading, status, &
                             cfg%core_lower, cfg%core_upper, cfg%core_n, faults)
+        if (status%ok() .and. allocated(cfg%regions)) call assign_box_regions(gmesh, cfg%regions, status)
       case ('gmsh')
         call read_gmsh(cfg%file, gmesh, status)
       end select
@@ -62,6 +64,7 @@ contains
       call log%info('mesh: '//itoa(gmesh%n_nodes)//' nodes, '//itoa(gmesh%n_cells)//' hexahedra, '// &
                     itoa(gmesh%n_faces)//' faces, '//itoa(size(gmesh%region_names))//' region(s), '// &
                     itoa(size(gmesh%set_names))//' surface set(s)')
+      call log%info('regions: '//region_counts(gmesh))
       if (nf > 0) then
         do i = 1, nf
           call log%info("fault '"//trim(faults(i)%name)//"': "//itoa(count(gmesh%iface_fault == i))// &
@@ -76,4 +79,16 @@ contains
                   itoa(comm%min(dmesh%cell_map%n_owned))//' to '//itoa(comm%max(dmesh%cell_map%n_owned))// &
                   ', ghost cells per rank up to '//itoa(comm%max(dmesh%cell_map%n_ghost)))
   end subroutine build_mesh
+
+  !> "'a' n_a cells, 'b' n_b cells, ..." in the order of the region ids.
+  function region_counts(gmesh) result(s)
+    type(mesh_t), intent(in) :: gmesh
+    character(len=:), allocatable :: s
+    integer(ip) :: r
+    s = ''
+    do r = 1, size(gmesh%region_names, kind=ip)
+      if (r > 1) s = s//', '
+      s = s//"'"//trim(gmesh%region_names(r))//"' "//itoa(count(gmesh%cell_region == r))//' cells'
+    end do
+  end function region_counts
 end module mesh_builder

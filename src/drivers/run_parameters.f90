@@ -29,7 +29,7 @@ contains
   end function parameters_path
 
   !> Every group the run uses, resolved, in deck order: &run, &time,
-  !> &output, &mesh, then the physics' groups; unused groups and variables
+  !> &output, &mesh, &region, then the physics' groups; unused groups and variables
   !> left out.
   subroutine resolved_groups(run, mcfg, sim, probes, groups)
     type(run_config_t), intent(in) :: run
@@ -38,18 +38,19 @@ contains
     type(probe_config_t), intent(in) :: probes(:)
     type(param_group_t), allocatable, intent(out) :: groups(:)
     type(param_group_t) :: head(4)
-    type(param_group_t), allocatable :: own(:), all(:), probe_groups(:)
+    type(param_group_t), allocatable :: own(:), all(:), probe_groups(:), region_groups(:)
     character(len=foreign_len), allocatable :: unused(:)
     logical, allocatable :: keep(:)
     integer :: g, j, p
     call run%describe(head(1:3))
     call mcfg%describe(head(4))
+    call mcfg%describe_regions(region_groups)
     call sim%parameter_groups(own)
     allocate(probe_groups(size(probes)))
     do g = 1, size(probes)
       call describe_probe(probes(g), probe_groups(g))
     end do
-    all = [head, own, probe_groups]
+    all = [head, region_groups, own, probe_groups]
     call sim%unused_inputs(unused)
     allocate(keep(size(all)))
     keep = .true.

@@ -8,6 +8,7 @@ module field_output
   use error_status, only: error_status_t
   use dist_mesh, only: dist_mesh_t
   use xdmf_writer, only: xdmf_writer_t
+  use strings, only: itoa
   implicit none
   private
 
@@ -49,6 +50,7 @@ contains
                           mesh%cell_map%first, conn, status)
     if (status%ok()) call self%writer%add_info('stress', 'cell field, Pa, tension positive, components '// &
                                                'XX YY ZZ XY YZ XZ (ParaView order of a Tensor6)', status)
+    if (status%ok()) call self%writer%add_info('region', 'cell field, region id: '//region_legend(mesh), status)
     self%active = status%ok()
   end subroutine init
 
@@ -93,6 +95,24 @@ contains
     ids(:) = mesh%cell_owner(1:nc)
     if (status%ok()) call self%writer%cell_field('rank', ids, status)
   end subroutine write_mesh_ids
+
+  !> '1 = name1, 2 = name2, ...': the region ids of the 'region' field
+  !> (characters XML does not take in a name shown as '_').
+  function region_legend(mesh) result(s)
+    type(dist_mesh_t), intent(in) :: mesh
+    character(len=:), allocatable :: s
+    character(len=:), allocatable :: nm
+    integer :: r, i
+    s = ''
+    do r = 1, size(mesh%region_names)
+      nm = trim(mesh%region_names(r))
+      do i = 1, len(nm)
+        if (scan(nm(i:i), '"<>&') > 0) nm(i:i) = '_'
+      end do
+      if (r > 1) s = s//', '
+      s = s//itoa(r)//' = '//nm
+    end do
+  end function region_legend
 
   !> Path of the XDMF file.
   function path(self) result(p)

@@ -26,6 +26,8 @@ module elasticity
   use rigid_modes, only: check_rigid_modes
   use geostatic, only: geostatic_t
   use geostatic_config, only: geostatic_config_t
+  use face_box, only: box_tolerance, face_in_box, count_set_faces_in_box, box_text
+  use strings, only: itoa
   implicit none
   private
 
@@ -48,6 +50,7 @@ module elasticity
     real(rp), allocatable :: bc_factor(:)    !< history factor of each condition at the current time
     type(geostatic_t) :: geo                 !< the in-situ state (&geostatic), if any
     integer(ip), allocatable :: geo_face(:)  !< boundary faces of owned cells held by the in-situ stress
+    real(rp) :: box_tol(3) = 0.0_rp          !< tolerance of the conditions' boxes [m] (face_box)
   contains
     procedure :: init
     procedure :: init_in_situ
@@ -83,6 +86,7 @@ contains
     type(error_status_t), intent(inout) :: status
     integer(ip), allocatable :: row_ptr(:), col(:)
     integer(ip) :: r, m, b, s, i, n, c, f, nt
+    real(rp) :: tol(3)
     character(len=msg_len) :: msg
 
     call self%free()
@@ -103,7 +107,8 @@ contains
     end do
     do i = 1, size(mats, kind=ip)
       if (mesh%region_id(mats(i)%region) == 0) then
-        call status%set("&material for region '"//trim(mats(i)%region)//"', which the mesh does not have")
+        call status%set("&material for region '"//trim(mats(i)%region)//"', which the mesh does not have "// &
+                        '(its regions: '//mesh%region_list()//')')
         return
       end if
     end do
@@ -120,28 +125,29 @@ contains
     self%bcs = bcs
     allocate(self%bc_factor(size(bcs)))
     self%bc_factor = 1.0_rp
+    tol = box_tolerance(mesh)
+    self%box_tol = tol
+    call check_boxes(mesh, bcs, tol, status)
+    if (.not. status%ok()) return
     nt = 0
     do b = 1, size(bcs, kind=ip)
       s = mesh%set_id(bcs(b)%set)
-      if (s == 0) then
-        call status%set("&boundary on set '"//trim(bcs(b)%set)//"', which the mesh does not have")
-        return
-      end if
-      if (bcs(b)%type == 'displacement') then
+      if (bcs(b)%type == 'displacement' .and. bcs(b)%has_box()) then
+        call fix_faces_in_box(self, mesh, bcs(b), b, s, tol)
+      else if (bcs(b)%type == 'displacement') then
         do i = mesh%set_node_ptr(s), mesh%set_node_ptr(s+1) - 1
-          do c = 1, 3
-            if (.not. bcs(b)%fixed(c)) cycle
-            self%fixed(self%u%dof(mesh%set_nodes(i), c)) = .true.
-            self%fixed_value(self%u%dof(mesh%set_nodes(i), c)) = bcs(b)%value(c)
-            self%fixed_bc(self%u%dof(mesh%set_nodes(i), c)) = b
-          end do
+          call fix_node(self, mesh%set_nodes(i), bcs(b), b)
         end do
       else if (is_traction(bcs(b)%type)) then
         do i = 1, mesh%n_sfaces
-          if (mesh%sface_set(i) == s) nt = nt + 1
+          if (mesh%sface_set(i) /= s) cycle
+          if (face_in_box(mesh, mesh%sface_face(i), bcs(b)%lower, bcs(b)%upper, tol)) nt = nt + 1
         end do
       end if
     end do
+    ! a node of a face in a box may be a ghost here whose face this rank does
+    ! not hold: the owner's decision is the one
+    if (any([(bcs(b)%has_box(), b = 1, size(bcs, kind=ip))])) call import_fixed(self)
     ! traction faces: boundary faces of the set whose cell this rank owns
     allocate(self%trac_face(nt), self%trac_value(3, nt), self%trac_bc(nt), self%trac_normal(nt))
     nt = 0
@@ -155,6 +161,7 @@ contains
           call status%set("traction on set '"//trim(bcs(b)%set)//"', which is not on the boundary")
           return
         end if
+        if (.not. face_in_box(mesh, f, bcs(b)%lower, bcs(b)%upper, tol)) cycle
         c = mesh%face_cells(1, f)
         if (c < 1 .or. c > mesh%cell_map%n_owned) cycle
         nt = nt + 1
@@ -174,6 +181,82 @@ contains
       is_traction = type == 'traction' .or. type == 'normal_traction'
     end function is_traction
   end subroutine init
+
+  !> Every condition's set must exist, and a condition with a box must
+  !> select a face of it (counted over all ranks). Collective: the same
+  !> status on every rank.
+  subroutine check_boxes(mesh, bcs, tol, status)
+    type(dist_mesh_t), intent(in) :: mesh
+    type(boundary_config_t), intent(in) :: bcs(:)
+    real(rp), intent(in) :: tol(3)
+    type(error_status_t), intent(inout) :: status
+    integer(ip) :: b, s
+    do b = 1, size(bcs, kind=ip)
+      s = mesh%set_id(bcs(b)%set)
+      if (s == 0) then
+        call status%set("&boundary on set '"//trim(bcs(b)%set)//"', which the mesh does not have")
+        return
+      end if
+      if (.not. bcs(b)%has_box()) cycle
+      if (count_set_faces_in_box(mesh, s, bcs(b)%lower, bcs(b)%upper, tol) == 0) then
+        call status%set("&boundary number "//itoa(int(b))//" (type '"//trim(bcs(b)%type)//"' on set '"// &
+          trim(bcs(b)%set)//"'): no face of the set has its centre in lower..upper "//box_text(bcs(b)%lower, bcs(b)%upper)// &
+          '; widen the box or refine the mesh')
+        return
+      end if
+    end do
+  end subroutine check_boxes
+
+  !> Prescribe the components of displacement condition bc (number b) at
+  !> local node n.
+  subroutine fix_node(self, n, bc, b)
+    type(elasticity_t), intent(inout) :: self
+    integer(ip), intent(in) :: n, b
+    type(boundary_config_t), intent(in) :: bc
+    integer(ip) :: c
+    do c = 1, 3
+      if (.not. bc%fixed(c)) cycle
+      self%fixed(self%u%dof(n, c)) = .true.
+      self%fixed_value(self%u%dof(n, c)) = bc%value(c)
+      self%fixed_bc(self%u%dof(n, c)) = b
+    end do
+  end subroutine fix_node
+
+  !> Displacement condition bc (number b) on the nodes of the faces of set s
+  !> whose centres lie in its box.
+  subroutine fix_faces_in_box(self, mesh, bc, b, s, tol)
+    type(elasticity_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    type(boundary_config_t), intent(in) :: bc
+    integer(ip), intent(in) :: b, s
+    real(rp), intent(in) :: tol(3)
+    integer(ip) :: i, f, k
+    do i = 1, mesh%n_sfaces
+      if (mesh%sface_set(i) /= s) cycle
+      f = mesh%sface_face(i)
+      if (.not. face_in_box(mesh, f, bc%lower, bc%upper, tol)) cycle
+      do k = 1, 4
+        call fix_node(self, mesh%face_nodes(k, f), bc, b)
+      end do
+    end do
+  end subroutine fix_faces_in_box
+
+  !> The prescribed flags, values and conditions of ghost dofs from their
+  !> owners. Collective.
+  subroutine import_fixed(self)
+    type(elasticity_t), intent(inout) :: self
+    real(rp), allocatable :: w(:)
+    allocate(w(self%u%n_local()))
+    w = merge(1.0_rp, 0.0_rp, self%fixed)
+    call self%u%map%import(w)
+    self%fixed = w > 0.5_rp
+    w = self%fixed_value
+    call self%u%map%import(w)
+    self%fixed_value = w
+    w = real(self%fixed_bc, rp)
+    call self%u%map%import(w)
+    self%fixed_bc = nint(w, ip)
+  end subroutine import_fixed
 
   !> Evaluate the conditions' histories at time t (the load factor for a
   !> static run, the physical time for poromechanics).

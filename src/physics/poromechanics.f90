@@ -31,6 +31,7 @@ module poromechanics
   use material_config, only: material_config_t
   use boundary_config, only: boundary_config_t
   use source_config, only: source_config_t
+  use face_box, only: face_in_box
   implicit none
   private
 
@@ -99,7 +100,7 @@ contains
     type(error_status_t), intent(inout) :: status
     integer(ip), allocatable :: row_ptr(:), col(:), cells(:,:)
     integer(ip) :: r, m, i, c, b, s, f, nreg
-    real(rp) :: lam, mu, km(3, 3), det
+    real(rp) :: lam, mu, km(3, 3), det, tol(3)
 
     call self%free()
     call self%mech%init(mesh, mats, bcs, status)
@@ -157,7 +158,8 @@ contains
     do i = 1, size(srcs, kind=ip)
       r = mesh%region_id(srcs(i)%region)
       if (r == 0) then
-        call status%set("&source in region '"//trim(srcs(i)%region)//"', which the mesh does not have")
+        call status%set("&source in region '"//trim(srcs(i)%region)//"', which the mesh does not have "// &
+                        '(its regions: '//mesh%region_list()//')')
         return
       end if
       self%src_rate(r) = self%src_rate(r) + srcs(i)%rate
@@ -176,6 +178,7 @@ contains
     self%q_value = 0.0_rp
     self%p_face = .false.
     self%p_bc = 0.0_rp
+    tol = self%mech%box_tol
     do b = 1, size(bcs, kind=ip)
       if (bcs(b)%type /= 'pressure' .and. bcs(b)%type /= 'flux') cycle
       s = mesh%set_id(bcs(b)%set)
@@ -187,6 +190,7 @@ contains
                           "', which is not on the boundary")
           return
         end if
+        if (.not. face_in_box(mesh, f, bcs(b)%lower, bcs(b)%upper, tol)) cycle
         self%face_bc(f) = b
         if (bcs(b)%type == 'pressure') then
           self%q_fixed(f) = .false.
