@@ -26,11 +26,11 @@ program geoblock
   implicit none
 
   !> the deck groups (the repeatable ones may appear more than once)
-  character(len=17), parameter :: groups(20) = [character(len=17) :: 'run', 'mesh', 'region', 'material', 'boundary', &
+  character(len=17), parameter :: groups(21) = [character(len=17) :: 'run', 'mesh', 'region', 'material', 'boundary', &
     'time', 'solver', 'amg', 'output', 'biot', 'source', 'afsai', 'block_fsai', 'fault', 'contact', 'probe', &
-    'fracture_flow', 'well', 'fracture_pressure', 'geostatic']
-  character(len=17), parameter :: repeatable(8) = [character(len=17) :: 'region', 'material', 'boundary', 'source', &
-    'fault', 'probe', 'well', 'fracture_pressure']
+    'fracture_flow', 'well', 'fracture_pressure', 'geostatic', 'pressure_change']
+  character(len=17), parameter :: repeatable(9) = [character(len=17) :: 'region', 'material', 'boundary', 'source', &
+    'fault', 'probe', 'well', 'fracture_pressure', 'pressure_change']
 
   type(parallel_comm_t) :: comm
   type(logger_t) :: log

@@ -594,9 +594,12 @@ contains
       associate (f => self%faults(self%fault(e)))
         self%pres(e) = lf * f%pressure * f%factor(lf)
       end associate
-      ! the in-situ pore pressure (&geostatic water table) acts on the faces too
+      ! the in-situ pore pressure (&geostatic water table) acts on the faces
+      ! too, and so does a &pressure_change of the cells on either side
       if (self%mech%geo%on) self%pres(e) = self%pres(e) + &
         self%mech%geo%pore_pressure(sum(mesh%coords(3, mesh%iface_nodes(:, 1, e))) / 4.0_rp)
+      self%pres(e) = self%pres(e) + 0.5_rp * lf * (self%mech%pressure_change_at(mesh, mesh%iface_cells(1, e)) + &
+                                                   self%mech%pressure_change_at(mesh, mesh%iface_cells(2, e)))
     end do
     if (.not. allocated(self%s)) then
       allocate(d(self%mech%u%n_local()), self%s(mesh%n_ifaces))

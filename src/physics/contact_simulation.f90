@@ -196,6 +196,7 @@ contains
     end if
     call agree(self%comm, status)
     if (status%ok()) call self%phys%mech%init_in_situ(mesh, self%geo, self%mats, status)
+    if (status%ok()) call self%phys%mech%init_pressure_changes(mesh, self%pcs, self%mats, status)
     call agree(self%comm, status)
     if (.not. status%ok()) return
     allocate(self%u_geo(size(self%phys%u)), self%jump_geo(3, mesh%n_ifaces))
@@ -869,9 +870,12 @@ contains
     class(contact_simulation_t), intent(in) :: self
     character(len=foreign_len), allocatable, intent(out) :: list(:)
     list = [character(len=foreign_len) :: 'biot', 'source', 'block_fsai', &
-            'material%biot', 'material%biot_modulus', &
+            'material%biot_modulus', &
             'material%permeability', 'material%permeability_tensor', 'material%viscosity']
     if (.not. self%flow) list = [list, [character(len=foreign_len) :: 'fracture_flow', 'well', 'fracture_pressure']]
+    if (self%flow) list = [list, [character(len=foreign_len) :: 'pressure_change']]
+    ! the Biot coefficient weighs a &pressure_change
+    if (size(self%pcs) == 0) list = [list, [character(len=foreign_len) :: 'material%biot']]
   end subroutine foreign_inputs
   !> Every interface element must have a split node: one whose four nodes
   !> all lie on the fault's edge (a fault patch less than two elements

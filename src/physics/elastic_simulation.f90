@@ -95,6 +95,7 @@ contains
     call self%mech%init(mesh, self%mats, self%bcs, status)
     call agree(self%comm, status)
     if (status%ok()) call self%mech%init_in_situ(mesh, self%geo, self%mats, status)
+    if (status%ok()) call self%mech%init_pressure_changes(mesh, self%pcs, self%mats, status)
     call agree(self%comm, status)
     if (.not. status%ok()) return
     if (self%geo%on) call log%info('geostatic: largest nodal force of the in-situ state out of equilibrium: '// &
@@ -284,7 +285,9 @@ contains
     character(len=foreign_len), allocatable, intent(out) :: list(:)
     list = [character(len=foreign_len) :: 'biot', 'source', 'fault', 'contact', 'fracture_flow', 'well', &
             'fracture_pressure', 'block_fsai', &
-            'material%biot', 'material%biot_modulus', &
+            'material%biot_modulus', &
             'material%permeability', 'material%permeability_tensor', 'material%viscosity']
+    ! the Biot coefficient weighs a &pressure_change
+    if (size(self%pcs) == 0) list = [list, [character(len=foreign_len) :: 'material%biot']]
   end subroutine foreign_inputs
 end module elastic_simulation

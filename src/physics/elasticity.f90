@@ -26,6 +26,7 @@ module elasticity
   use rigid_modes, only: check_rigid_modes
   use geostatic, only: geostatic_t
   use geostatic_config, only: geostatic_config_t
+  use pressure_change_config, only: pressure_change_config_t
   use face_box, only: box_tolerance, face_in_box, count_set_faces_in_box, box_text
   use strings, only: itoa
   implicit none
@@ -51,9 +52,15 @@ module elasticity
     type(geostatic_t) :: geo                 !< the in-situ state (&geostatic), if any
     integer(ip), allocatable :: geo_face(:)  !< boundary faces of owned cells held by the in-situ stress
     real(rp) :: box_tol(3) = 0.0_rp          !< tolerance of the conditions' boxes [m] (face_box)
+    type(pressure_change_config_t), allocatable :: pcs(:)   !< &pressure_change groups
+    integer(ip), allocatable :: dp_group(:)  !< per region: its &pressure_change, 0: none
+    real(rp), allocatable :: dp_biot(:)      !< per region: Biot coefficient of its rock
+    real(rp), allocatable :: dp_now(:)       !< per region: pore pressure change at the current time, at full load [Pa]
   contains
     procedure :: init
     procedure :: init_in_situ
+    procedure :: init_pressure_changes
+    procedure :: pressure_change_at
     procedure :: in_situ_imbalance
     procedure :: assemble
     procedure :: assemble_into
@@ -92,6 +99,11 @@ contains
     call self%free()
     n = size(mesh%region_names, kind=ip)
     allocate(self%lambda(n), self%mu(n), self%body(3, n))
+    ! no pore pressure change until init_pressure_changes says where
+    allocate(self%dp_group(n), self%dp_biot(n), self%dp_now(n), self%pcs(0))
+    self%dp_group = 0
+    self%dp_biot = 1.0_rp
+    self%dp_now = 0.0_rp
     do r = 1, n
       m = 0
       do i = 1, size(mats, kind=ip)
@@ -267,6 +279,11 @@ contains
     do b = 1, size(self%bcs)
       self%bc_factor(b) = self%bcs(b)%factor(t)
     end do
+    do b = 1, size(self%dp_group)
+      self%dp_now(b) = 0.0_rp
+      if (self%dp_group(b) > 0) self%dp_now(b) = self%pcs(self%dp_group(b))%value * &
+                                                 self%pcs(self%dp_group(b))%factor(t)
+    end do
   end subroutine set_time
 
   !> Value of prescribed local dof at the current time (without load factor).
@@ -353,7 +370,7 @@ contains
       do a = 1, 8
         dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
       end do
-      loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp) .or. self%geo%on
+      loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp) .or. self%geo%on .or. self%dp_now(r) /= 0.0_rp
       ! known values of the prescribed dofs; only nonzero ones lift the right-hand side
       lifted = .false.
       do j = 1, 24
@@ -376,7 +393,8 @@ contains
             bf = bf + body%eval(xq)
           end if
           do a = 1, 8
-            fe(3*a-2:3*a) = fe(3*a-2:3*a) + n(a) * bf * det
+            ! the pore pressure change: b dp div(eta)
+            fe(3*a-2:3*a) = fe(3*a-2:3*a) + n(a) * bf * det + self%dp_biot(r) * self%dp_now(r) * g(:, a) * det
           end do
         end do
       end if
@@ -499,6 +517,44 @@ contains
     end do
     self%geo_face = self%geo_face(1:n)
   end subroutine init_in_situ
+
+  !> The &pressure_change groups pcs on mesh, with the Biot coefficients of
+  !> the regions' materials; status names a group whose region the mesh
+  !> does not have. Call after init (every physics calls it: without
+  !> groups, no change anywhere).
+  subroutine init_pressure_changes(self, mesh, pcs, mats, status)
+    class(elasticity_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    type(pressure_change_config_t), intent(in) :: pcs(:)
+    type(material_config_t), intent(in) :: mats(:)
+    type(error_status_t), intent(inout) :: status
+    integer(ip) :: r, k, n
+    n = size(mesh%region_names, kind=ip)
+    self%pcs = pcs
+    do k = 1, size(pcs, kind=ip)
+      r = mesh%region_id(pcs(k)%region)
+      if (r == 0) then
+        call status%set("&pressure_change on region '"//trim(pcs(k)%region)//"', which the mesh does not have")
+        return
+      end if
+      self%dp_group(r) = k
+    end do
+    do r = 1, n
+      do k = 1, size(mats, kind=ip)
+        if (mats(k)%region == mesh%region_names(r)) self%dp_biot(r) = mats(k)%biot
+      end do
+    end do
+  end subroutine init_pressure_changes
+
+  !> The pore pressure change at full load of local cell c [Pa] (0 outside
+  !> the &pressure_change regions).
+  real(rp) function pressure_change_at(self, mesh, c) result(dp)
+    class(elasticity_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: c
+    dp = 0.0_rp
+    if (c >= 1 .and. c <= mesh%n_cells) dp = self%dp_now(mesh%cell_region(c))
+  end function pressure_change_at
 
   !> fe(24) += the in-situ load of owned cell c: its weight less the work of
   !> the in-situ total stress, integral of N rho g - B^T sigma_0 (not scaled
@@ -685,6 +741,8 @@ contains
     class(elasticity_t), intent(inout) :: self
     if (allocated(self%geo_face)) deallocate(self%geo_face)
     self%geo = geostatic_t()
+    if (allocated(self%dp_group)) deallocate(self%dp_group, self%dp_biot, self%dp_now)
+    if (allocated(self%pcs)) deallocate(self%pcs)
     call self%k%free()
     call self%u%free()
     if (allocated(self%rhs)) deallocate(self%rhs)

@@ -50,6 +50,7 @@ module simulation
   use fsai_config, only: fsai_config_t
   use material_config, only: material_config_t, read_materials
   use geostatic_config, only: geostatic_config_t
+  use pressure_change_config, only: pressure_change_config_t, read_pressure_changes, load_pressure_change_histories
   use boundary_config, only: boundary_config_t, read_boundaries, load_histories
   use fault_config, only: fault_config_t
   use dist_mesh, only: dist_mesh_t
@@ -93,6 +94,7 @@ module simulation
     integer :: max_cuts = 0                                !< halvings of a step that does not converge
     type(geostatic_config_t) :: geo                        !< &geostatic (geo%on: the run starts in situ)
     logical :: initial_step = .false.                      !< a step 0 at t = 0 before any load (geostatic)
+    type(pressure_change_config_t), allocatable :: pcs(:)  !< &pressure_change groups (histories loaded)
   contains
     procedure(name_iface), deferred :: name
     procedure(read_deck_iface), deferred :: read_deck
@@ -263,6 +265,18 @@ contains
     if (status%ok()) call check_in_situ(self, d, status)
     if (.not. status%ok()) return
     self%initial_step = self%geo%on
+    if (flow_conditions) then
+      allocate(self%pcs(0))
+      if (d%count('pressure_change') > 0) then
+        call status%set("deck '"//trim(d%path)//"': &pressure_change is for physics 'elasticity' and 'contact' "// &
+          "(in 'biot' the pressure is an unknown: use &source or a &boundary pressure)")
+        return
+      end if
+    else
+      call read_pressure_changes(d, log, self%pcs, status)
+      if (status%ok()) call load_pressure_change_histories(self%comm, self%pcs, status)
+      if (.not. status%ok()) return
+    end if
     if (self%geo%on .and. flow_conditions) then
       call status%set("deck '"//trim(d%path)//"': &geostatic is not available for physics = 'biot' yet "// &
         "(elasticity and contact only)")
@@ -435,7 +449,7 @@ contains
     class(simulation_t), intent(in) :: sim
     type(param_group_t), allocatable, intent(out) :: groups(:)
     integer :: k, n
-    allocate(groups(size(sim%mats) + size(sim%bcs) + merge(5, 4, sim%geo%on)))
+    allocate(groups(size(sim%mats) + size(sim%bcs) + merge(5, 4, sim%geo%on) + size(sim%pcs)))
     n = 0
     do k = 1, size(sim%mats)
       n = n + 1
@@ -448,6 +462,13 @@ contains
     call sim%solver%describe(groups(n + 1))
     call describe_amg_config(sim%amg, groups(n + 2))
     call sim%fsai%describe(groups(n + 3), groups(n + 4))
-    if (sim%geo%on) call sim%geo%describe(groups(n + 5))
+    n = n + 4
+    if (sim%geo%on) then
+      n = n + 1
+      call sim%geo%describe(groups(n))
+    end if
+    do k = 1, size(sim%pcs)
+      call sim%pcs(k)%describe(groups(n + k))
+    end do
   end subroutine common_parameter_groups
 end module simulation

@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# &pressure_change (a given change of pore pressure, one-way coupled): a
+# depleted layer in a laterally confined column compacts uniaxially. The
+# two-layer Gmsh column (meshes/two_layers.msh: 'rock' below z = 0.6 with
+# b = 0.8, 'cap' above), rollers on the sides and the base, a free top,
+# dp = -10 MPa in the rock reached in two load steps: u_z = b dp z / M_rock
+# in the rock (M = E (1 - nu) / ((1 + nu)(1 - 2 nu)), the oedometric
+# modulus) and b dp 0.6 / M_rock above it, u_x = u_y = 0, at every node to
+# 1e-9 of the top's (Q1 is exact for a displacement linear in each layer),
+# the rock's effective stress b dp vertically and nu/(1-nu) b dp
+# horizontally, the cap's zero (1e-9 of b |dp|); with the interface 'fault'
+# between the layers as a contact fault (physics contact, 2 ranks): the same
+# displacement, and every element's normal traction the fault pressure,
+# the mean of the changes on its two sides (dp / 2: the total normal stress
+# stays zero), no shear, no opening.
+set -u
+cd "$(dirname "$0")/../.."
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+PY=${PYTHON:-/usr/bin/python3}
+out=build/test-out/pressure_change
+rm -rf "$out"; mkdir -p "$out"
+pass=0; fail=0
+ok() { echo "  ok    $1"; pass=$((pass + 1)); }
+ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
+deck() {  # name, physics, solver, extra groups
+  cat > "$out/$1.nml" <<EOD
+&run
+  physics = '$2'
+/
+&mesh
+  source = 'gmsh', file = '$PWD/meshes/two_layers.msh'
+/
+&material
+  region = 'rock', young = 5.0e9, poisson = 0.3, biot = 0.8
+/
+&material
+  region = 'cap', young = 2.0e10, poisson = 0.2
+/
+&pressure_change
+  region = 'rock', value = -1.0e7
+/
+&boundary
+  set = 'zmin', type = 'displacement', uz = 0.0
+/
+&boundary
+  set = 'xmin', type = 'displacement', ux = 0.0
+/
+&boundary
+  set = 'xmax', type = 'displacement', ux = 0.0
+/
+&boundary
+  set = 'ymin', type = 'displacement', uy = 0.0
+/
+&boundary
+  set = 'ymax', type = 'displacement', uy = 0.0
+/
+&time
+  n_steps = 2
+/
+&solver
+  method = '$3', rtol = 1.0e-12
+/
+&output
+  dir = '$out', prefix = '$1'
+/
+$4
+EOD
+}
+check() {  # name, with fault (0|1)
+  $PY - "$out/$1" "$2" <<'EOP'
+import sys
+import h5py
+import numpy as np
+path, fault = sys.argv[1], sys.argv[2] == "1"
+mesh = h5py.File(path + "_mesh.h5", "r")
+x, conn = mesh["coords"][:], mesh["connectivity"][:]
+last = h5py.File(path + "_0001.h5", "r")
+u, s = last["displacement"][:], last["stress"][:]
+E, nu, b, dp = 5e9, 0.3, 0.8, -1e7
+M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
+ue = b * dp / M * np.minimum(x[:, 2], 0.6)
+eu = max(np.abs(u[:, 2] - ue).max(), np.abs(u[:, :2]).max()) / np.abs(ue).max()
+zc = x[conn].mean(axis=1)[:, 2]
+se = np.zeros_like(s)
+rock = zc < 0.6
+se[rock, 2] = b * dp
+se[rock, 0] = se[rock, 1] = nu / (1 - nu) * b * dp
+es = np.abs(s - se).max() / abs(b * dp)
+bad = eu > 1e-9 or es > 1e-9
+msg = f"displacement {eu:.1e} of the top's, stress {es:.1e} of b|dp| (tol 1e-9)"
+if fault:
+    fr = last["fractures"]
+    tn, ts, op = fr["normal_traction"][:], fr["shear_traction"][:], fr["opening"][:]
+    et = max(np.abs(tn - dp / 2).max(), np.abs(ts).max()) / abs(dp / 2)
+    bad = bad or et > 1e-9 or np.abs(op).max() > 1e-12
+    msg += f"; {len(tn)} fault elements: traction against dp/2 {et:.1e} (tol 1e-9), opening {np.abs(op).max():.1e} m"
+print(("FAIL " if bad else "") + msg)
+EOP
+}
+run_check() {  # name, ranks, with fault, what
+  if ! timeout 300 mpirun --oversubscribe -np "$2" bin/geoblock "$out/$1.nml" > "$out/$1.out" 2>&1 < /dev/null; then
+    ko "$4: the run failed, see $out/$1.out"; return
+  fi
+  r=$(check "$1" "$3" 2>&1)
+  case "$r" in FAIL*|*Error*|*Traceback*) ko "$4: $r" ;; *) ok "$4: $r" ;; esac
+}
+deck column elasticity cg ""
+run_check column 1 0 "depleted layer, elasticity, 1 rank"
+deck column2 elasticity cg ""
+run_check column2 2 0 "depleted layer, elasticity, 2 ranks"
+deck fault contact fgmres "&fault
+  name = 'fault', friction_angle = 30.0
+/"
+run_check fault 2 1 "depleted layer under a contact fault, 2 ranks"
+echo "suite pressure_change: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
