@@ -113,7 +113,10 @@ contains
     call self%phys%init(mesh, self%mats, self%bcs, self%srcs, self%bcfg%beta(), self%bcfg%stab_mode == 'adaptive', &
                         status)
     call agree(self%comm, status)
+    if (status%ok()) call self%phys%mech%init_in_situ(mesh, self%geo, self%mats, status)
+    call agree(self%comm, status)
     if (.not. status%ok()) return
+    if (self%geo%on) call report_in_situ(self, log)
     call pieces%build(mesh)
     call self%phys%mech%check_anchored(mesh, pieces, status)
     call pieces%free()
@@ -299,10 +302,11 @@ contains
     type(field_output_t), intent(inout) :: out
     type(error_status_t), intent(inout) :: status
     real(rp), allocatable :: u_loc(:), q_loc(:), stress(:,:), vel(:,:), pres(:)
-    integer(ip) :: q0, q1, nc
+    integer(ip) :: q0, q1, nc, p0, p1
     associate (phys => self%phys, mesh => self%mesh)
       call solid_fields(self, u_loc, pres, stress)
       call phys%sys%block_range(iq, q0, q1)
+      call phys%sys%block_range(ipr, p0, p1)
       nc = mesh%cell_map%n_owned
       allocate(q_loc(phys%qd%n_local()), vel(3, nc))
       q_loc = 0.0_rp
@@ -311,11 +315,29 @@ contains
       call phys%cell_velocity(mesh, q_loc, vel)
       call out%write_displacement(mesh, u_loc, status)
       if (status%ok()) call out%writer%cell_field('pressure', pres, status)
+      if (status%ok() .and. phys%mech%geo%on) call out%writer%cell_field('pressure_change', &
+        phys%x(p0:p0 + nc - 1), status)
       if (status%ok()) call out%writer%cell_field('darcy_velocity', vel, status)
       if (status%ok()) call out%writer%cell_field('stress', stress, status)
       call out%write_mesh_ids(mesh, status)
     end associate
   end subroutine write_output
+
+  !> &geostatic: how far the in-situ state is from equilibrium on this mesh.
+  !> Biot has no balancing step (its step 0 is the undrained response to the
+  !> loads): a state out of equilibrium beyond round-off moves the solid,
+  !> and the log says so. Collective.
+  subroutine report_in_situ(self, log)
+    type(biot_simulation_t), intent(inout) :: self
+    type(logger_t), intent(inout) :: log
+    real(rp) :: r
+    r = self%phys%mech%in_situ_imbalance(self%mesh)
+    call log%info('geostatic: largest nodal force of the in-situ state out of equilibrium: '//trim(rtoa(r))// &
+      ' of the largest nodal weight; the pressure unknown, its boundary values and sources are changes from '// &
+      'the hydrostatic pressure, the output pressure the total')
+    if (r > 1.0e-8_rp) call log%warn('geostatic: the in-situ state is not in equilibrium on this mesh (layers '// &
+      'not bounded by horizontal planes?): the displacements include its response')
+  end subroutine report_in_situ
 
   !> The displacement (local, ghosts imported), the pressure and the total
   !> stress (xx yy zz xy yz xz, tension positive) of the current state.
@@ -332,6 +354,12 @@ contains
       u_loc(1:u1 - u0 + 1) = phys%x(u0:u1)
       call phys%mech%u%map%import(u_loc)
       pres = phys%x(p0:p1)
+      ! &geostatic: the unknown is the change from the hydrostatic pressure
+      if (phys%mech%geo%on) then
+        do c = 1, nc
+          pres(c) = pres(c) + phys%mech%geo%pore_pressure(sum(mesh%coords(3, mesh%cell_nodes(:, c))) / 8.0_rp)
+        end do
+      end if
       call phys%mech%cell_stress(mesh, u_loc, stress)
       do c = 1, nc
         ! total stress = effective - b p I (xx, yy, zz are components 1, 2, 3)

@@ -111,7 +111,7 @@ contains
     if (.not. status%ok()) return
     if (self%flow .and. self%geo%on) then
       call status%set("deck '"//trim(d%path)//"': &geostatic is not available for physics = 'fracture_flow' yet "// &
-        "(elasticity and contact only)")
+        "elasticity, contact and biot have it")
       return
     end if
     self%max_newton = self%ccfg%max_newton

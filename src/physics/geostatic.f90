@@ -33,6 +33,7 @@ module geostatic
     real(rp) :: rho_f = 0.0_rp             !< fluid density [kg/m^3]
     real(rp) :: top = 0.0_rp, bottom = 0.0_rp   !< z of the mesh top and bottom [m]
     real(rp), allocatable :: rho(:), k0(:)      !< per mesh region [kg/m^3], [-]
+    real(rp), allocatable :: b(:)               !< per mesh region: Biot coefficient of the effective stress
     real(rp), allocatable :: zlo(:), zhi(:)     !< per mesh region: its depth range [m]
   contains
     procedure :: init
@@ -66,14 +67,16 @@ contains
     self%zw = cfg%water_table
     self%rho_f = cfg%fluid_density
     n = size(mesh%region_names, kind=ip)
-    allocate(self%rho(n), self%k0(n), self%zlo(n), self%zhi(n))
+    allocate(self%rho(n), self%k0(n), self%b(n), self%zlo(n), self%zhi(n))
     self%rho = 0.0_rp
     self%k0 = 0.0_rp
+    self%b = 1.0_rp
     do r = 1, n
       do i = 1, size(mats, kind=ip)
         if (mats(i)%region /= mesh%region_names(r)) cycle
         self%rho(r) = mats(i)%density
         self%k0(r) = mats(i)%k0
+        self%b(r) = mats(i)%biot
         if (self%k0(r) == unset_real) self%k0(r) = mats(i)%poisson / (1.0_rp - mats(i)%poisson)
       end do
     end do
@@ -156,21 +159,22 @@ contains
   end function pore_pressure
 
   !> Effective stress at z in region r, as a 3 x 3 tensor [Pa] (tension
-  !> positive): K0 sigma'_v horizontally, sigma'_v = sigma_v + p0 vertically.
+  !> positive): K0 sigma'_v horizontally, sigma'_v = sigma_v + b p0
+  !> vertically (b the region's Biot coefficient: 1, Terzaghi's effective
+  !> stress, unless its &material says otherwise).
   pure function effective_stress(self, r, z) result(s)
     class(geostatic_t), intent(in) :: self
     integer(ip), intent(in) :: r
     real(rp), intent(in) :: z
     real(rp) :: s(3, 3), sv
-    sv = self%vertical_stress(z) + self%pore_pressure(z)
+    sv = self%vertical_stress(z) + self%b(r) * self%pore_pressure(z)
     s = 0.0_rp
     s(1, 1) = self%k0(r) * sv
     s(2, 2) = self%k0(r) * sv
     s(3, 3) = sv
   end function effective_stress
 
-  !> Total stress at z in region r: the effective stress less p0 (the
-  !> Biot coefficient of the in-situ state is 1: Terzaghi's effective stress).
+  !> Total stress at z in region r: the effective stress less b p0.
   pure function total_stress(self, r, z) result(s)
     class(geostatic_t), intent(in) :: self
     integer(ip), intent(in) :: r
@@ -178,7 +182,7 @@ contains
     real(rp) :: s(3, 3), p
     integer :: i
     s = self%effective_stress(r, z)
-    p = self%pore_pressure(z)
+    p = self%b(r) * self%pore_pressure(z)
     do i = 1, 3
       s(i, i) = s(i, i) - p
     end do

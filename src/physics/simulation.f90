@@ -264,7 +264,9 @@ contains
     if (status%ok()) call self%geo%read(d, log, status)
     if (status%ok()) call check_in_situ(self, d, status)
     if (.not. status%ok()) return
-    self%initial_step = self%geo%on
+    ! the equilibrium step of the in-situ state (Biot: its layers are in
+    ! equilibrium by construction, and its step 0 is the undrained one)
+    self%initial_step = self%geo%on .and. .not. flow_conditions
     if (flow_conditions) then
       allocate(self%pcs(0))
       if (d%count('pressure_change') > 0) then
@@ -276,11 +278,6 @@ contains
       call read_pressure_changes(d, log, self%pcs, status)
       if (status%ok()) call load_pressure_change_histories(self%comm, self%pcs, status)
       if (.not. status%ok()) return
-    end if
-    if (self%geo%on .and. flow_conditions) then
-      call status%set("deck '"//trim(d%path)//"': &geostatic is not available for physics = 'biot' yet "// &
-        "(elasticity and contact only)")
-      return
     end if
     if (.not. with_faults .and. d%count('fault') > 0) then
       call status%set("deck '"//trim(d%path)//"': &fault groups need physics = 'contact' in &run")

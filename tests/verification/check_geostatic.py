@@ -19,6 +19,11 @@ usage:
       at step 0 every element's traction is the in-situ traction at its
       centre within a quarter of rho g dz (dz: the element's vertical
       extent); at the last step the slip is below 1e-12 m
+  check_geostatic.py biot_column RUN
+      the column with flow at rest: zero displacement, pressure change and
+      the hydrostatic total pressure, the lithostatic total stress (1e-9)
+  check_geostatic.py biot_superposition RUN DRY
+      the loaded column with flow against the dry run, every step (1e-7)
 RUN and DRY are output directory/prefix paths (build/test-out/x/NAME).
 The densities, K0s, Poisson's ratios, water table, gravity and surface
 stress are read from the run's resolved deck. Prints one line per check;
@@ -107,6 +112,56 @@ def check_column(path):
     return 1 if fails else 0
 
 
+def biot_state(par, z):
+    """(total stress (n, 6), pore pressure (n,)) in situ of the Biot column."""
+    g, surface, p0, k0, rho = in_situ(par)
+    mats = {m["region"]: m for m in par["material"]}
+    b = np.where(z < 0.6, float(mats["rock"].get("biot", 1.0)), float(mats["cap"].get("biot", 1.0)))
+    sv = -(surface + g * (rho["cap"] * (1.0 - np.maximum(z, 0.6)) + rho["rock"] * np.maximum(0.6 - z, 0.0)))
+    p = p0(z) * np.ones_like(z)
+    k = np.where(z < 0.6, k0["rock"], k0["cap"])
+    s = np.zeros((len(z), 6))
+    s[:, 0] = s[:, 1] = k * (sv + b * p) - b * p
+    s[:, 2] = sv
+    return s, p
+
+
+def check_biot_column(path):
+    run = open_run(path)
+    par = run.parameters()
+    s_exp, p_exp = biot_state(par, run.cell_centres()[:, 2])
+    g, _, _, _, rho = in_situ(par)
+    u_scale = g * max(rho.values()) / min(float(m["young"]) for m in par["material"])
+    p_scale = 1000.0 * g
+    eu = max(np.abs(run.field("displacement", k)).max() for k in range(len(run.steps))) / u_scale
+    ep = max(np.abs(run.field("pressure_change", k)).max() for k in range(len(run.steps))) / p_scale
+    ept = max(np.abs(run.field("pressure", k) - p_exp).max() for k in range(len(run.steps))) / p_scale
+    es = max(np.abs(run.field("stress", k) - s_exp).max() for k in range(len(run.steps))) / np.abs(s_exp).max()
+    bad = max(eu, ep, ept, es) > 1e-9
+    print(f"{'FAIL' if bad else 'ok'}: {len(run.steps)} steps: displacement {eu:.1e} of rho g H^2/E, pressure change "
+          f"{ep:.1e} and total pressure against hydrostatic {ept:.1e} of rho_f g H, total stress against "
+          f"lithostatic {es:.1e} (tol 1e-9)")
+    return 1 if bad else 0
+
+
+def check_biot_superposition(path, dry_path):
+    run, dry = open_run(path), open_run(dry_path)
+    s_exp, p_exp = biot_state(run.parameters(), run.cell_centres()[:, 2])
+    worst = 0.0
+    for k in range(len(run.steps)):
+        ud = dry.field("displacement", k)
+        pd = dry.field("pressure", k)
+        sd = dry.field("stress", k)
+        worst = max(worst, np.abs(run.field("displacement", k) - ud).max() / np.abs(ud).max(),
+                    np.abs(run.field("pressure_change", k) - pd).max() / np.abs(pd).max(),
+                    np.abs(run.field("pressure", k) - p_exp - pd).max() / np.abs(pd).max(),
+                    np.abs(run.field("stress", k) - s_exp - sd).max() / np.abs(sd).max())
+    bad = worst > 1e-7
+    print(f"{'FAIL' if bad else 'ok'}: {len(run.steps)} steps (undrained and two drained): displacement, pressure "
+          f"change, total pressure - p0 and total stress - in situ against the dry run: {worst:.1e} (tol 1e-7)")
+    return 1 if bad else 0
+
+
 def check_superposition(path, dry_path):
     run, dry = open_run(path), open_run(dry_path)
     expect = column_state(run.parameters(), run.cell_centres()[:, 2])
@@ -189,6 +244,10 @@ def main():
         return check_superposition(a[1], a[2])
     if a[0] == "flat_fault":
         return check_flat_fault(a[1])
+    if a[0] == "biot_column":
+        return check_biot_column(a[1])
+    if a[0] == "biot_superposition":
+        return check_biot_superposition(a[1], a[2])
     if a[0] == "dip_fault":
         return check_dip_fault(a[1], *map(float, a[2:6]))
     print(f"unknown check {a[0]}", file=sys.stderr)

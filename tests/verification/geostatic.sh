@@ -22,7 +22,12 @@
 #     friction angle of 10 degrees (the in-situ ratio |t_T| / |t_N| is
 #     0.247, 13.9 degrees) the log names the fault's elements beyond the
 #     Coulomb limit and step 1 slips;
-#  5. a restart after step 2 of 3 of that run gives the continuous step 3.
+#  5. a restart after step 2 of 3 of that run gives the continuous step 3;
+#  6. Biot (b = 0.9 in the rock, a drained top): the column at rest keeps the
+#     hydrostatic pressure (its change below 1e-9 of rho_f g H), zero
+#     displacement and the lithostatic total stress (sigma_v vertically,
+#     K0 (sigma_v + b p0) - b p0 horizontally, 1e-9); loaded, it equals the
+#     dry run (displacement, pressure change) plus the in-situ state (1e-7).
 # Bad decks of &geostatic are in tests/decks/bad_geostatic_*.nml.
 set -u
 cd "$(dirname "$0")/../.."
@@ -62,23 +67,29 @@ rollers="&boundary
   set = 'ymax', type = 'displacement', uy = 0.0
 /"
 column() {  # name, physics, geostatic (yes|no), extra groups
-  local mats
+  local mats flow_rock='' flow_cap='' solver=cg
+  [ "$2" = contact ] && solver=fgmres
+  if [ "$2" = biot ]; then
+    solver=fgmres
+    flow_rock=", biot = 0.9, biot_modulus = 1.0e10, permeability = 1.0e-13"
+    flow_cap=", permeability = 1.0e-15"
+  fi
   if [ "$3" = yes ]; then
     mats="&material
-  region = 'rock', young = 5.0e9, poisson = 0.3, density = 2300.0, k0 = 0.7
+  region = 'rock', young = 5.0e9, poisson = 0.3, density = 2300.0, k0 = 0.7$flow_rock
 /
 &material
-  region = 'cap', young = 2.0e10, poisson = 0.2, density = 2500.0
+  region = 'cap', young = 2.0e10, poisson = 0.2, density = 2500.0$flow_cap
 /
 &geostatic
   water_table = 0.8, surface_stress = 1.0e5
 /"
   else
     mats="&material
-  region = 'rock', young = 5.0e9, poisson = 0.3
+  region = 'rock', young = 5.0e9, poisson = 0.3$flow_rock
 /
 &material
-  region = 'cap', young = 2.0e10, poisson = 0.2
+  region = 'cap', young = 2.0e10, poisson = 0.2$flow_cap
 /"
   fi
   cat > "$out/$1.nml" <<EOF
@@ -92,7 +103,7 @@ $mats
 $rollers
 $4
 &solver
-  method = '$( [ "$2" = contact ] && echo fgmres || echo cg )', rtol = 1.0e-10
+  method = '$solver', rtol = 1.0e-10
 /
 &output
   dir = '$out', prefix = '$1'
@@ -175,6 +186,27 @@ if run weak 2; then
   if grep -q "start beyond the Coulomb limit" "$out/dip.out"; then ko "friction 30 degrees: elements said beyond the limit"
   else ok "friction 30 degrees: no element beyond the Coulomb limit"; fi
 fi
+
+# 6. Biot: the same column with flow (drained top, pressure changes from
+# the hydrostatic one): at rest, and loaded against the dry run
+biot_time="&boundary
+  set = 'zmax', type = 'pressure', pressure = 0.0
+/
+&time
+  dt = 1.0, t_end = 2.0
+/"
+column biot_rest biot yes "$biot_time"
+run biot_rest 2 && report "Biot column at rest" $PY tests/verification/check_geostatic.py biot_column "$out/biot_rest"
+column biot_loaded biot yes "$biot_time
+&boundary
+  set = 'zmax', type = 'traction', traction = 0.0, 0.0, -1.0e6
+/"
+column biot_dry biot no "$biot_time
+&boundary
+  set = 'zmax', type = 'traction', traction = 0.0, 0.0, -1.0e6
+/"
+run biot_loaded 2 && run biot_dry 2 && \
+  report "Biot column loaded" $PY tests/verification/check_geostatic.py biot_superposition "$out/biot_loaded" "$out/biot_dry"
 
 # 5. restart: a checkpoint after step 2 of 3 (the in-situ origin of the
 # displacements and jumps goes with it) gives step 3 of the continuous run
