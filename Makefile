@@ -113,6 +113,7 @@ bench: deps
 	$(MAKE) all
 	@bash bench/run_bench.sh
 	@bash bench/run_bench_biot.sh
+	@bash bench/run_bench_standins.sh
 	@bash bench/run_bench_fsai.sh
 	@bash bench/run_bench_contact.sh
 	@bash bench/run_bench_flow.sh

@@ -19,6 +19,8 @@ ranks=${2:-"1 2"}
 gammas=${3:-"0.15 1 100"}
 with_mumps=${4:-yes}
 variants=${5:-"implicit explicit_amg explicit_afsai"}
+# shellcheck source=bench/biot_bench_lib.sh
+. bench/biot_bench_lib.sh
 out=build/bench
 mkdir -p "$out"
 table=$out/mandel.md
@@ -33,12 +35,7 @@ for n in $sizes; do
       for g in $gammas; do
         [ "$s" = mumps ] && [ "$g" != 1 ] && continue
         name=mandel_${n}_${s}_np${np}_g${g}
-        case $s in
-          implicit) solver="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true." ;;
-          explicit_amg) solver="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true., decoupling = 'explicit'" ;;
-          explicit_afsai) solver="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true., decoupling = 'explicit', k_precon = 'afsai', flux_precon = 'afsai', schur_precon = 'afsai', restart = 300, max_iter = 5000" ;;
-          mumps)  solver="method = 'mumps', mumps_layout = 'distributed'" ;;
-        esac
+        solver=$(biot_solver "$s") || exit 1
         sed -e "s#nx = 20, ny = 20, nz = 1#nx = $n, ny = $n, nz = $nz#" \
             -e "s#upper = 1.0, 1.0, 0.05#upper = 1.0, 1.0, $(echo "scale=6; $nz / $n" | bc)#" \
             -e "s#dt = 0.05, t_end = 200.0, dt_growth = 1.12, dt_max = 5.0#dt = $g, t_end = $g, undrained = .false.#" \
@@ -48,18 +45,7 @@ for n in $sizes; do
             input/mandel.nml > "$out/$name.nml"
         log=$out/$name.log
         /usr/bin/time -v mpirun --oversubscribe -np "$np" bin/geoblock "$out/$name.nml" > "$log" 2>&1
-        tot=$(grep -m1 '^unknowns' "$log" | sed -E 's/.*total ([0-9]+).*/\1/')
-        step=$(grep -m1 '^step' "$log")
-        its=$(echo "$step" | sed -E 's/.*iterations +([0-9]+).*/\1/')
-        tp1=$(echo "$step" | sed -E 's/.*setup\(dt-indep.\) +([0-9.]+) s.*/\1/')
-        tp2=$(echo "$step" | sed -E 's/.*setup\(dt\) +([0-9.]+) s.*/\1/')
-        ts=$(echo "$step" | sed -E 's/.*solve +([0-9.]+) s.*/\1/')
-        ref=$(grep -m1 'elastic reference' "$log" | sed -E 's/.*iterations ([0-9]+),.*AMG setup +([0-9.]+) s, solve +([0-9.]+) s.*/\1 \/ \2 \/ \3/')
-        refs=$(grep -m1 'elastic reference' "$log" | sed -E 's/.*solve +([0-9.]+) s.*/\1/')
-        ratio="-"
-        [ -n "$refs" ] && ratio=$(echo "scale=2; $ts / $refs" | bc)
-        mu=$(grep -m1 'density mu' "$log" | sed -E 's/.*density mu ([0-9.eE+-]+).*/\1/')
-        rss=$(grep -m1 'Maximum resident set size' "$log" | awk '{print int($NF/1024)}')
+        parse_biot_log "$log"
         printf '| %sx%sx%s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$n" "$n" "$nz" "$tot" "$np" "$s" \
           "$g" "${mu:--}" "$its" "$tp1" "$tp2" "$ts" "${ref:--}" "$ratio" "$rss" | tee -a "$table"
       done
