@@ -7,6 +7,10 @@
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+# a rank that exits with status 2 after MPI_Finalize (a refused deck) makes
+# mpirun stop the job; its default grace of 1 s before SIGKILL cost each such
+# case 2 s of wall time
+export OMPI_MCA_odls_base_sigkill_timeout=0
 exe=${GEOBLOCK:-bin/geoblock}   # GEOBLOCK=bin/geoblock-debug runs the suite on the checked build
 pass=0; fail=0
 work=$(mktemp -d)

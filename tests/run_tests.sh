@@ -6,6 +6,10 @@
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+# a rank that exits with status 2 after MPI_Finalize (a refused deck) makes
+# mpirun stop the job; its default grace of 1 s before SIGKILL cost each such
+# case 2 s of wall time
+export OMPI_MCA_odls_base_sigkill_timeout=0
 logdir=build/test-logs
 mkdir -p "$logdir"
 total_pass=0
@@ -14,6 +18,7 @@ start=$(date +%s)
 while read -r np prog args; do
   [ -z "${np:-}" ] && continue
   case "$np" in \#*) continue ;; esac
+  t0=$(date +%s)
   if [ "$np" = "script" ]; then
     name=$(basename "$prog"); name=${name%.*}
     log="$logdir/$name.log"
@@ -38,7 +43,7 @@ while read -r np prog args; do
     line="suite $name: crashed or timed out (exit $rc), see $log"
   fi
   grep -E '^  FAIL' "$log" | sed "s/^/[$name]/"
-  printf '%-40s %s\n' "$name" "${line#suite *: }"
+  printf '%-40s %-28s %5d s\n' "$name" "${line#suite *: }" "$(( $(date +%s) - t0 ))"
   total_pass=$((total_pass + p))
   total_fail=$((total_fail + f))
 done < tests/suites.txt
