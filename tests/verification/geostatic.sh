@@ -183,6 +183,13 @@ if run weak 2; then
   slip=$(grep -m1 '^load step 1/2' "$out/weak.out" | sed -E 's/.*stick\/slip\/open ([0-9]+)\/([0-9]+)\/.*/\2/')
   if [ "${slip:-0}" -gt 0 ]; then ok "friction 10 degrees: step 1 slips ($slip elements)"
   else ko "friction 10 degrees: step 1 does not slip: $(grep -m1 '^load step 1/2' "$out/weak.out")"; fi
+  # the post-processing picture of the reactivated fault (postproc/plot_faults.py)
+  r=$($PY postproc/plot_faults.py "$out/weak" --step 1 -o "$out/weak_faults.png" 2>&1)
+  if grep -q "fault          f:      36 elements, stick/slip/open 0/36/0" <<< "$r" && [ -s "$out/weak_faults.png" ]; then
+    ok "plot_faults.py: $(head -1 <<< "$r" | sed 's/  */ /g')"
+  else
+    ko "plot_faults.py: $(tr '\n' ' ' <<< "$r")"
+  fi
   if grep -q "start beyond the Coulomb limit" "$out/dip.out"; then ko "friction 30 degrees: elements said beyond the limit"
   else ok "friction 30 degrees: no element beyond the Coulomb limit"; fi
 fi
