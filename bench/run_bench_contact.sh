@@ -17,6 +17,10 @@
 # The augmented runs get max_cuts = 0: from rest under a proportional load a
 # cut step repeats the same linear systems, so cuts cannot rescue a linear
 # solver that fails (it does at n = 40, see the README).
+# bubble_augmented is the stable face-bubble space (&contact space =
+# 'bubble': Q1 + a face bubble per interface face and side, P0 tractions, a
+# pure saddle point) with the augmented preconditioner, its default;
+# bubble_augmented_<x> the same with aug_scale = x (e.g. bubble_augmented_0.5).
 # reordered_strong_amg is the reordered preconditioner with a stronger
 # BoomerAMG (&amg agg_num_levels = 0, num_sweeps = 2; the elastic reference
 # then uses it too), to separate the AMG's own growth from the contact's;
@@ -49,6 +53,10 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
     mumps)     solver="method = 'mumps', mumps_layout = 'distributed'"; contact="" ;;
     augmented) solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="block = 'augmented', stabilization = 'none', max_cuts = 0" ;;
+    bubble_augmented*)
+               solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
+               contact="space = 'bubble', block = 'augmented', max_cuts = 0, aug_scale = ${s#bubble_augmented_}"
+               [ "$s" = bubble_augmented ] && contact="space = 'bubble', block = 'augmented', max_cuts = 0" ;;
     reordered_strong_amg)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."; contact="block = 'reordered'" ;;
     reordered_inner_cg)

@@ -1,15 +1,23 @@
 !> Deck group &contact: the discretization of the contact conditions on the
 !> faults (&fault groups) and the active-set / Newton driver (physics = 'contact').
 !>
+!>   space          the discretization: 'stabilized' (Q1 displacements, P0
+!>                  tractions, not inf-sup stable: needs the stabilization)
+!>                  or 'bubble' (Q1 enriched with a face bubble per interface
+!>                  face and side, P0 tractions: stable, a pure saddle point;
+!>                  physics 'contact' only)                          ['stabilized']
 !>   stabilization  'algebraic' (the jump stabilization H_t of Franceschini et
 !>                  al., CMAME 368 (2020) 113161, needed by the Q1-P0 pair) or
-!>                  'none' (the bare saddle point; use block = 'augmented')  ['algebraic']
+!>                  'none' (the bare saddle point; use block = 'augmented');
+!>                  space 'bubble' has none, and refuses 'algebraic'
+!>                                          ['algebraic'; 'none' for 'bubble']
 !>   block          preconditioner of the (u, t) system with method = 'fgmres':
 !>                  'reordered' (t first; S* = K + C1 H~^-1 C2 with a regular
 !>                  diagonal H~, BoomerAMG), 'classical' (u first; explicit
 !>                  S = -H_t - C2 diag(K)^-1 C1, preconditioned by schur_precon)
 !>                  or 'augmented' (reordered with H~ = D, the augmentation
-!>                  diagonal, whatever H_t is)                        ['reordered']
+!>                  diagonal, whatever H_t is)
+!>                                      ['reordered'; 'augmented' for 'bubble']
 !>   schur_precon   classical: 'boomeramg' or 'jacobi' for -S        ['boomeramg']
 !>   aug_scale      scale of the regular diagonal H~ (and D), > 0          [1]
 !>   schur_solve    reordered, augmented: how S* is applied: 'vcycle' (one
@@ -41,6 +49,7 @@ module contact_config
   public :: contact_config_t
 
   type :: contact_config_t
+    character(len=name_len) :: space = 'stabilized'
     character(len=name_len) :: stabilization = 'algebraic'
     character(len=name_len) :: block = 'reordered'
     character(len=name_len) :: schur_precon = 'boomeramg'
@@ -64,16 +73,18 @@ contains
     type(deck_t), intent(in) :: d
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
-    character(len=name_len) :: stabilization, block, schur_precon, schur_solve
+    character(len=name_len) :: space, stabilization, block, schur_precon, schur_solve
     real(rp) :: aug_scale, newton_tol, status_tol
     integer :: max_newton, max_cuts, ios
     logical :: reuse
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    namelist /contact/ stabilization, block, schur_precon, aug_scale, schur_solve, max_newton, newton_tol, &
+    namelist /contact/ space, stabilization, block, schur_precon, aug_scale, schur_solve, max_newton, newton_tol, &
                        status_tol, max_cuts, reuse
 
-    stabilization = self%stabilization; block = self%block; schur_precon = self%schur_precon
+    ! stabilization and block: '' until the deck sets them (their defaults
+    ! follow the space)
+    space = self%space; stabilization = ''; block = ''; schur_precon = self%schur_precon
     aug_scale = self%aug_scale; schur_solve = self%schur_solve; max_newton = self%max_newton; newton_tol = self%newton_tol
     status_tol = self%status_tol; max_cuts = self%max_cuts; reuse = self%reuse
     if (d%count('contact') > 0) then
@@ -84,6 +95,13 @@ contains
         return
       end if
     end if
+    if (space /= 'stabilized' .and. space /= 'bubble') call d%fail(status, 'contact', 1, 'space', &
+      "must be 'stabilized' or 'bubble' (got '"//trim(space)//"')")
+    if (space == 'bubble' .and. stabilization == 'algebraic') call d%fail(status, 'contact', 1, 'stabilization', &
+      "'algebraic' with space = 'bubble': the face bubbles make the tractions stable, the system is a pure "// &
+      "saddle point with no H_t (leave stabilization out, or set 'none')")
+    if (len_trim(stabilization) == 0) stabilization = merge('none     ', 'algebraic', space == 'bubble')
+    if (len_trim(block) == 0) block = merge('augmented', 'reordered', space == 'bubble')
     if (stabilization /= 'algebraic' .and. stabilization /= 'none') call d%fail(status, 'contact', 1, &
       'stabilization', "must be 'algebraic' or 'none' (got '"//trim(stabilization)//"')")
     if (block /= 'reordered' .and. block /= 'classical' .and. block /= 'augmented') call d%fail(status, &
@@ -103,7 +121,7 @@ contains
       'must lie in (0, 1) (got '//rtoa(status_tol)//')')
     if (max_cuts < 0) call d%fail(status, 'contact', 1, 'max_cuts', 'must be >= 0 (got '//itoa(max_cuts)//')')
     if (.not. status%ok()) return
-    self%stabilization = stabilization; self%block = block; self%schur_precon = schur_precon
+    self%space = space; self%stabilization = stabilization; self%block = block; self%schur_precon = schur_precon
     self%aug_scale = aug_scale; self%schur_solve = schur_solve; self%max_newton = max_newton; self%newton_tol = newton_tol
     self%status_tol = status_tol; self%max_cuts = max_cuts; self%reuse = reuse
   end subroutine read_contact_config
@@ -113,6 +131,7 @@ contains
     class(contact_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
     call g%init('contact')
+    call g%add('space', self%space, '-', "'stabilized' (Q1-P0 with H_t) or 'bubble' (Q1 + face bubbles, P0)")
     call g%add('stabilization', self%stabilization, '-', "'algebraic' (jump stabilization) or 'none'")
     call g%add('block', self%block, '-', "(u, t) preconditioner: 'reordered', 'classical' or 'augmented'")
     call g%add('schur_precon', self%schur_precon, '-', "classical: 'boomeramg' or 'jacobi' for -S")

@@ -5,7 +5,7 @@ module hex_q1
   implicit none
   private
 
-  public :: hex_shape, hex_gradients, hex_jacobian_det, quad_shape, quad_area_vector, inverse3
+  public :: hex_shape, hex_gradients, hex_jacobian_det, quad_shape, quad_area_vector, inverse3, hex_face_bubble
 
   !> Reference coordinates of the 8 nodes.
   real(rp), parameter :: s(3, 8) = reshape([ &
@@ -54,6 +54,31 @@ contains
     c31 = a(2,1)*a(3,2) - a(2,2)*a(3,1)
     det = a(1,1)*c11 + a(1,2)*c21 + a(1,3)*c31
   end function hex_jacobian_det
+
+  !> The bubble of local face k (1..6: xi = -1, +1, eta = -1, +1, zeta = -1,
+  !> +1, mesh's hex_face_nodes) at xi: value b and reference derivatives
+  !> db(3). For k = 5 (zeta = -1): b = (1 - xi^2) (1 - eta^2) (1 - zeta) / 2,
+  !> zero on the other five faces.
+  pure subroutine hex_face_bubble(xi, k, b, db)
+    real(rp), intent(in) :: xi(3)
+    integer(ip), intent(in) :: k
+    real(rp), intent(out) :: b, db(3)
+    real(rp) :: f(3), df(3), sg
+    integer :: d, i
+    d = (k + 1) / 2
+    sg = merge(-1.0_rp, 1.0_rp, mod(k, 2_ip) == 1)
+    do i = 1, 3
+      if (i == d) then
+        f(i) = 0.5_rp * (1.0_rp + sg * xi(i))
+        df(i) = 0.5_rp * sg
+      else
+        f(i) = 1.0_rp - xi(i)**2
+        df(i) = -2.0_rp * xi(i)
+      end if
+    end do
+    b = f(1) * f(2) * f(3)
+    db = [df(1) * f(2) * f(3), f(1) * df(2) * f(3), f(1) * f(2) * df(3)]
+  end subroutine hex_face_bubble
 
   !> Inverse ai and determinant det of a 3x3 matrix a (adjugate / det).
   pure subroutine inverse3(a, ai, det)

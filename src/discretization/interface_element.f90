@@ -18,7 +18,7 @@ module interface_element
   implicit none
   private
 
-  public :: interface_geometry, interface_frame
+  public :: interface_geometry, interface_frame, face_bubble_integral
 
 contains
 
@@ -40,6 +40,21 @@ contains
     area = sum(w)
     call interface_frame(quad_area_vector(x, [0.0_rp, 0.0_rp]), r)
   end subroutine interface_geometry
+
+  !> Integral [m^2] over the quad x(3,4) [m] of a face bubble's trace
+  !> (1 - xi^2)(1 - eta^2) (face_bubbles.f90; the same in either cell's
+  !> parametrization of the face, the trace being symmetric on the square):
+  !> 3x3 Gauss, exact for a planar quad (4/9 of the area for a parallelogram).
+  real(rp) function face_bubble_integral(x) result(wb)
+    real(rp), intent(in) :: x(3, 4)
+    real(rp) :: xi(2, 9), wq(9)
+    integer(ip) :: q
+    call gauss_quad(3_ip, xi, wq)
+    wb = 0.0_rp
+    do q = 1, 9
+      wb = wb + (1.0_rp - xi(1, q)**2) * (1.0_rp - xi(2, q)**2) * norm2(quad_area_vector(x, xi(:, q))) * wq(q)
+    end do
+  end function face_bubble_integral
 
   !> Local frame r (rows n, m1, m2) from a normal vector nv of any length.
   pure subroutine interface_frame(nv, r)

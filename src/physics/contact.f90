@@ -34,6 +34,14 @@
 !> neighbours is penalized by the local Schur complement) with the exact
 !> element-stiffness diagonals in place of its closed-form estimate.
 !>
+!> Space 'bubble' (init with bubble = .true.): the displacement field also
+!> has a face bubble in the cell on each side of every element
+!> (face_bubbles.f90, elasticity's enriched cells), which makes the P0
+!> tractions inf-sup stable. The jump operator gets the bubbles' columns
+!> (+-wb R, wb the integral of the bubble over the face), so C1, C2, the
+!> mean jumps and the row scales s include them, and H_t is left out: the
+!> stick problem is the pure saddle point [K C1; C1^T 0].
+!>
 !> Newton's method works on increments: the prescribed displacements are
 !> imposed at the start of every load step, so the Jacobian's columns of
 !> prescribed dofs are zero.
@@ -56,7 +64,8 @@ module contact
   use material_config, only: material_config_t
   use boundary_config, only: boundary_config_t
   use fault_config, only: fault_config_t
-  use interface_element, only: interface_geometry
+  use interface_element, only: interface_geometry, face_bubble_integral
+  use face_bubbles, only: face_bubbles_t
   use fault_edges, only: fault_edges_t
   use fracture_flow, only: fracture_flow_t
   use flow_config, only: flow_config_t, well_config_t, pressure_bc_t
@@ -71,6 +80,9 @@ module contact
   !> status changes of one element in a step before it is held (update_states)
   integer, parameter :: max_flips = 4
   real(rp), parameter :: deg = acos(-1.0_rp) / 180.0_rp
+  !> columns of an element's jump operator: 4 + 4 nodes and (space 'bubble')
+  !> the bubbles of its two sides, 3 components each (unused ones: dof 0)
+  integer(ip), parameter :: nju = 30
 
   type :: contact_t
     type(elasticity_t) :: mech
@@ -78,6 +90,10 @@ module contact
     type(block_matrix_t) :: sys                    !< Jacobian
     integer :: bu = 1, bt = 2                      !< block indices of u and t
     logical :: stabilized = .true.
+    !> space 'bubble': the fault cells' face bubbles enrich u (no H_t then)
+    logical :: bubble = .false.
+    type(face_bubbles_t) :: bub
+    real(rp), allocatable :: wb(:)                 !< (n) integral of a bubble over the element [m^2]
     real(rp), allocatable :: x(:)                  !< current state, owned block vector [m, Pa]
     real(rp), allocatable :: rhs(:)                !< -residual, owned block vector
     real(rp), allocatable :: f_u(:)                !< load of the momentum rows (prescribed dofs lifted)
@@ -123,6 +139,7 @@ module contact
     procedure :: count_states
     procedure :: ht_diagonal
     procedure :: tip_skew
+    procedure :: nodal_u
     procedure :: begin_flow_step
     procedure :: free
   end type contact_t
@@ -133,7 +150,7 @@ contains
   !> t_first puts the tractions in block 1 (the reordered preconditioner);
   !> p_second (with the fluid) the pressure in block 2, the displacement
   !> last (the pressure eliminated with the tractions). Collective.
-  subroutine init(self, mesh, mats, bcs, faults, stabilized, t_first, status, fcfg, wells, pbcs, p_second)
+  subroutine init(self, mesh, mats, bcs, faults, stabilized, t_first, status, fcfg, wells, pbcs, p_second, bubble)
     class(contact_t), intent(inout), target :: self
     type(dist_mesh_t), intent(in) :: mesh
     type(material_config_t), intent(in) :: mats(:)
@@ -145,11 +162,18 @@ contains
     type(well_config_t), intent(in), optional :: wells(:)
     type(pressure_bc_t), intent(in), optional :: pbcs(:)
     logical, intent(in), optional :: p_second
+    logical, intent(in), optional :: bubble        !< the face-bubble space (stabilized must be .false.)
     integer(ip), allocatable :: row_ptr(:), col(:), conn8(:,:), self_conn(:,:), pairs(:,:)
-    integer(ip) :: e, n, f, nown
+    integer(ip) :: e, n, f, nown, s
 
     call self%free()
-    call self%mech%init(mesh, mats, bcs, status)
+    if (present(bubble)) self%bubble = bubble
+    if (self%bubble) then
+      call self%bub%build(mesh)
+      call self%mech%init(mesh, mats, bcs, status, self%bub)
+    else
+      call self%mech%init(mesh, mats, bcs, status)
+    end if
     if (.not. status%ok()) return
     call self%mech%k%free()                       ! the block system holds K
     self%stabilized = stabilized
@@ -168,10 +192,18 @@ contains
     n = mesh%n_ifaces
     call self%t%init('traction', mesh%iface_map, 3_ip)
     nown = mesh%iface_map%n_owned
-    allocate(conn8(8, n), self_conn(1, n))
+    ! the displacement entities of each element (dof_map's entity numbers):
+    ! 4 + 4 nodes, then its bubbles (0: none)
+    allocate(conn8(10, n), self_conn(1, n))
+    conn8 = 0
     do e = 1, n
-      conn8(1:4, e) = mesh%iface_nodes(:, 1, e)
-      conn8(5:8, e) = mesh%iface_nodes(:, 2, e)
+      conn8(1:4, e) = self%mech%u%entity(mesh%iface_nodes(:, 1, e))
+      conn8(5:8, e) = self%mech%u%entity(mesh%iface_nodes(:, 2, e))
+      if (self%bubble) then
+        do s = 1, 2
+          conn8(8 + s, e) = self%mech%u%extra_entity(self%bub%of_iface(s, e))
+        end do
+      end if
       self_conn(1, e) = e
     end do
 
@@ -196,9 +228,9 @@ contains
       call self%sys%init(no)
     end block
     associate (umap => self%mech%u%map, tmap => self%t%map, bu => self%bu, bt => self%bt)
-      call element_pattern(mesh%node_map%n_owned, mesh%cell_nodes, mesh%cell_nodes, 3_ip, 3_ip, row_ptr, col)
+      call self%mech%stiffness_pattern(mesh, row_ptr, col)
       call self%sys%set_pattern(bu, bu, umap, umap, row_ptr, col)
-      call element_pattern(mesh%node_map%n_owned, conn8, self_conn, 3_ip, 3_ip, row_ptr, col)
+      call element_pattern(umap%n_owned / 3, conn8, self_conn, 3_ip, 3_ip, row_ptr, col)
       call self%sys%set_pattern(bu, bt, umap, tmap, row_ptr, col)
       call element_pattern(nown, self_conn, conn8, 3_ip, 3_ip, row_ptr, col)
       call self%sys%set_pattern(bt, bu, tmap, umap, row_ptr, col)
@@ -209,7 +241,7 @@ contains
       call self%sys%set_pattern(bt, bt, tmap, tmap, row_ptr, col)
     end associate
     call assemble_c1(self, mesh)
-    if (self%flow) call flow_init(self, mesh, conn8, self_conn, fcfg, wells, pbcs)
+    if (self%flow) call flow_init(self, mesh, conn8(1:8, :), self_conn, fcfg, wells, pbcs)
 
     ! fault properties and initial state
     allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%fault(n), self%flips(n), self%fresh(n))
@@ -265,9 +297,10 @@ contains
     real(rp) :: a_sum, n_sum
     type(parallel_comm_t) :: comm
     n = mesh%n_ifaces
-    allocate(self%area(n), self%wn(4, n), self%rot(3, 3, n))
+    allocate(self%area(n), self%wn(4, n), self%rot(3, 3, n), self%wb(n))
     do e = 1, n
       call interface_geometry(mesh%coords(:, mesh%iface_nodes(:, 1, e)), self%area(e), self%wn(:, e), self%rot(:, :, e))
+      self%wb(e) = face_bubble_integral(mesh%coords(:, mesh%iface_nodes(:, 1, e)))
     end do
     comm = mesh%comm
     nown = mesh%iface_map%n_owned
@@ -377,8 +410,8 @@ contains
     type(well_config_t), intent(in) :: wells(:)
     type(pressure_bc_t), intent(in) :: pbcs(:)
     integer(ip), allocatable :: row_ptr(:), col(:), connp(:,:)
-    integer(ip) :: n, e, k, ed, o, j, rows(24)
-    real(rp) :: be(3, 24)
+    integer(ip) :: n, e, k, ed, o, j, rows(nju)
+    real(rp) :: be(3, nju)
     n = mesh%n_ifaces
     associate (umap => self%mech%u%map, pmap => self%pd%map, bu => self%bu, bp => self%bp)
       call element_pattern(mesh%node_map%n_owned, conn8, self_conn, 3_ip, 1_ip, row_ptr, col)
@@ -470,8 +503,8 @@ contains
   subroutine assemble_mass_rows(self, mesh)
     type(contact_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
-    real(rp) :: be(3, 24), bo(3, 24), r, dp, m_self, m_off, dt, stor
-    integer(ip) :: e, k, ed, o, dofs(24), dofo(24), p0, p1
+    real(rp) :: be(3, nju), bo(3, nju), r, dp, m_self, m_off, dt, stor
+    integer(ip) :: e, k, ed, o, dofs(nju), dofo(nju), p0, p1
     integer :: s
     dt = self%dt
     associate (jpu => self%sys%a(self%bp, self%bu), jpp => self%sys%a(self%bp, self%bp))
@@ -524,8 +557,8 @@ contains
     !> The jump operator of element ee with the prescribed dofs' columns zero.
     subroutine free_jump_operator(ee, b, d)
       integer(ip), intent(in) :: ee
-      real(rp), intent(out) :: b(3, 24)
-      integer(ip), intent(out) :: d(24)
+      real(rp), intent(out) :: b(3, nju)
+      integer(ip), intent(out) :: d(nju)
       integer(ip) :: j
       call jump_operator(self, mesh, ee, b, d)
       do j = 1, 24
@@ -539,8 +572,8 @@ contains
   subroutine assemble_c1(self, mesh)
     type(contact_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
-    real(rp) :: be(3, 24)
-    integer(ip) :: e, j, rows(24), cols(3)
+    real(rp) :: be(3, nju)
+    integer(ip) :: e, j, rows(nju), cols(3)
     associate (c1 => self%sys%a(self%bu, self%bt))
       call c1%zero()
       do e = 1, mesh%iface_map%n_owned
@@ -555,14 +588,17 @@ contains
     end associate
   end subroutine assemble_c1
 
-  !> be(3, 24) = C1^T block of element e (local frame rows; columns the x, y,
-  !> z dofs of its 4 minus-side then 4 plus-side nodes) and those dofs.
+  !> be(3, nju) = C1^T block of element e (local frame rows; columns the x, y,
+  !> z dofs of its 4 minus-side then 4 plus-side nodes, then with bubbles
+  !> those of its minus-side and plus-side bubbles, else dof 0 and zero
+  !> columns) and those dofs. A bubble's column is the integral of the
+  !> bubble over the face, wb, where a node has its nodal area.
   subroutine jump_operator(self, mesh, e, be, dofs)
     type(contact_t), intent(in) :: self
     type(dist_mesh_t), intent(in) :: mesh
     integer(ip), intent(in) :: e
-    real(rp), intent(out) :: be(3, 24)
-    integer(ip), intent(out) :: dofs(24)
+    real(rp), intent(out) :: be(3, nju)
+    integer(ip), intent(out) :: dofs(nju)
     integer(ip) :: a, s
     real(rp) :: sg
     do s = 1, 2
@@ -571,6 +607,13 @@ contains
         be(:, 12*(s-1) + 3*a-2 : 12*(s-1) + 3*a) = sg * self%wn(a, e) * self%rot(:, :, e)
         dofs(12*(s-1) + 3*a-2 : 12*(s-1) + 3*a) = self%mech%u%dof(mesh%iface_nodes(a, s, e), [1_ip, 2_ip, 3_ip])
       end do
+      if (self%bubble) then
+        be(:, 24 + 3*s-2 : 24 + 3*s) = sg * self%wb(e) * self%rot(:, :, e)
+        dofs(24 + 3*s-2 : 24 + 3*s) = self%mech%u%extra_dof(self%bub%of_iface(s, e), [1_ip, 2_ip, 3_ip])
+      else
+        be(:, 24 + 3*s-2 : 24 + 3*s) = 0.0_rp
+        dofs(24 + 3*s-2 : 24 + 3*s) = 0
+      end if
     end do
   end subroutine jump_operator
 
@@ -615,6 +658,12 @@ contains
           end do
           self%s(e) = self%s(e) + self%wn(a, e)**2 * (1.0_rp / kn(1) + 1.0_rp / kn(2))
         end do
+        ! with bubbles, theirs too: s is the diagonal of C2 diag(K)^-1 C1
+        if (.not. self%bubble) cycle
+        do s = 1, 2
+          kn(s) = sum(d(self%mech%u%extra_dof(self%bub%of_iface(s, e), [1_ip, 2_ip, 3_ip]))) / 3.0_rp
+        end do
+        self%s(e) = self%s(e) + self%wb(e)**2 * (1.0_rp / kn(1) + 1.0_rp / kn(2))
       end do
     end if
   end subroutine assemble_stiffness
@@ -644,8 +693,8 @@ contains
     class(contact_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), allocatable :: tp(:), w(:)
-    real(rp) :: be(3, 24), jt(3, 24), r(3), v(3), hb(3, 3), dd(2), dg(2), tau, nrm, p2(2, 2), z(2), cz
-    integer(ip) :: e, j, k, ed, o, dofs(24), cols(3), ne, no, u0, u1, t0, t1, i
+    real(rp) :: be(3, nju), jt(3, nju), r(3), v(3), hb(3, 3), dd(2), dg(2), tau, nrm, p2(2, 2), z(2), cz
+    integer(ip) :: e, j, k, ed, o, dofs(nju), cols(3), ne, no, u0, u1, t0, t1, i
     associate (jtu => self%sys%a(self%bt, self%bu), jtt => self%sys%a(self%bt, self%bt))
       call jtu%zero()
       call jtt%zero()
@@ -800,8 +849,8 @@ contains
     class(contact_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), allocatable :: tl(:)
-    real(rp) :: be(3, 24)
-    integer(ip) :: u0, u1, t0, t1, e, dofs(24)
+    real(rp) :: be(3, nju)
+    integer(ip) :: u0, u1, t0, t1, e, dofs(nju)
     call self%sys%block_range(self%bu, u0, u1)
     call self%sys%block_range(self%bt, t0, t1)
     self%u(1:u1-u0+1) = self%x(u0:u1)
@@ -813,7 +862,7 @@ contains
     self%trac = reshape(tl, [3, mesh%n_ifaces])
     do e = 1, mesh%n_ifaces
       call jump_operator(self, mesh, e, be, dofs)
-      self%jump(:, e) = matmul(be, self%u(dofs)) / self%area(e)
+      self%jump(:, e) = matmul(be, self%u(max(dofs, 1_ip))) / self%area(e)   ! unused columns are zero
     end do
     if (self%flow) then
       call self%sys%block_range(self%bp, t0, t1)
@@ -1011,6 +1060,19 @@ contains
     end do
   end function tip_skew
 
+  !> The local displacement at the nodes, 3 per local node in node order
+  !> (the bubbles left out): what the output and the probes read [m].
+  function nodal_u(self, mesh) result(un)
+    class(contact_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), allocatable :: un(:)
+    integer(ip) :: nd
+    allocate(un(3 * mesh%n_nodes))
+    do nd = 1, mesh%n_nodes
+      un(3*nd-2:3*nd) = self%u(self%mech%u%dof(nd, [1_ip, 2_ip, 3_ip]))
+    end do
+  end function nodal_u
+
   subroutine free(self)
     class(contact_t), intent(inout) :: self
     call self%sys%free()
@@ -1019,7 +1081,9 @@ contains
     if (allocated(self%x)) deallocate(self%x, self%rhs)
     if (allocated(self%f_u)) deallocate(self%f_u)
     if (allocated(self%u)) deallocate(self%u)
-    if (allocated(self%area)) deallocate(self%area, self%wn, self%rot)
+    if (allocated(self%area)) deallocate(self%area, self%wn, self%rot, self%wb)
+    call self%bub%free()
+    self%bubble = .false.
     if (allocated(self%s)) deallocate(self%s)
     if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, &
                                                  self%fault, self%flips, self%fresh)

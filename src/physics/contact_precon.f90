@@ -13,7 +13,11 @@
 !>              applied up to the AMG (schur_solve = 'inner_cg': up to an
 !>              inner CG to 1e-10, the diagnostic of an exact S*);
 !>   augmented  the same with H~ = D, the augmentation diagonal (the row
-!>              scales s of contact), for the unstabilized saddle point.
+!>              scales s of contact), for the unstabilized saddle point:
+!>              built on A* = [-D C2; C1 K] and applied to the Jacobian. It
+!>              is the default of the stable face-bubble space (contact's
+!>              space 'bubble', a pure saddle point), where S* has the
+!>              bubbles' rows (3 consecutive unknowns each, like a node's).
 !>
 !> With the fluid in the fractures (physics 'fracture_flow', blocks t, u, p)
 !> the reordered preconditioner gets the seed's second level: the (t, u)

@@ -111,7 +111,14 @@ contains
     if (.not. status%ok()) return
     if (self%flow .and. self%geo%on) then
       call status%set("deck '"//trim(d%path)//"': &geostatic is not available for physics = 'fracture_flow' yet "// &
-        "elasticity, contact and biot have it")
+        "(elasticity, contact and biot have it)")
+      return
+    end if
+    ! the in-situ and pressure-change loads are nodal: the bubbles' share of
+    ! them is not made yet
+    if (self%ccfg%space == 'bubble' .and. (self%geo%on .or. size(self%pcs) > 0)) then
+      call d%fail(status, 'contact', 1, 'space', "'bubble' does not take &geostatic or &pressure_change yet "// &
+        "(use space = 'stabilized')")
       return
     end if
     self%max_newton = self%ccfg%max_newton
@@ -162,6 +169,11 @@ contains
         " give compressibility > 0 (water: 4.5e-10 1/Pa) or start the fault open")
       return
     end do
+    if (self%ccfg%space /= 'stabilized') then
+      call d%fail(status, 'contact', 1, 'space', "'"//trim(self%ccfg%space)//"' is for physics = 'contact': "// &
+        "physics = 'fracture_flow' has the space 'stabilized' only (its mass rows and preconditioner rest on H_t)")
+      return
+    end if
     if (self%solver%method /= 'mumps' .and. self%ccfg%block /= 'reordered') call status%set("deck '"// &
       trim(d%path)//"', group &contact, variable block: physics = 'fracture_flow' has the 'reordered' block "// &
       "preconditioner (with the pressure's Schur complement as its second level), or method = 'mumps'")
@@ -175,6 +187,7 @@ contains
     type(dist_mesh_t), intent(in), target :: mesh
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
+    character(len=32) :: pcount
     self%mesh => mesh
     call check_split(mesh, status)
     if (.not. status%ok()) return
@@ -192,7 +205,8 @@ contains
                           p_second=self%solver%method /= 'mumps' .and. self%fcfg%pressure_block == 'eliminated')
     else
       call self%phys%init(mesh, self%mats, self%bcs, self%faults, self%ccfg%stabilization == 'algebraic', &
-                          self%solver%method /= 'mumps' .and. self%ccfg%block /= 'classical', status)
+                          self%solver%method /= 'mumps' .and. self%ccfg%block /= 'classical', status, &
+                          bubble=self%ccfg%space == 'bubble')
     end if
     call agree(self%comm, status)
     if (status%ok()) call self%phys%mech%init_in_situ(mesh, self%geo, self%mats, status)
@@ -209,9 +223,13 @@ contains
     call check_pieces(self, status)
     if (.not. status%ok()) return
     call warn_tip_skew(self, log)
+    if (self%phys%bubble) call log%info('contact: space bubble, u has '// &
+      itoa(int(self%phys%bub%map%n_global))//' face bubbles (3 unknowns each) beside the nodes')
+    ! (merge wants arguments of equal lengths: the checked build stops on it)
+    pcount = ''
+    if (self%phys%flow) pcount = ', p '//itoa(int(mesh%iface_map%n_global))
     call log%info('unknowns: u '//itoa(int(self%phys%mech%u%map%n_global))//', t '// &
-      itoa(int(self%phys%t%map%n_global))//trim(merge(', p '//itoa(int(mesh%iface_map%n_global)), repeat(' ', 24), &
-      self%phys%flow))//' ('//itoa(int(mesh%iface_map%n_global))//' interface elements, '// &
+      itoa(int(self%phys%t%map%n_global))//trim(pcount)//' ('//itoa(int(mesh%iface_map%n_global))//' interface elements, '// &
       itoa(int(self%comm%sum(self%phys%edges%n)))//' stabilization edge entries)')
     if (self%flow) call log_wells(self, log)
     if (self%solver%method == 'mumps') then
@@ -626,9 +644,14 @@ contains
     type(probe_fields_t), intent(inout) :: pf
     type(error_status_t), intent(inout) :: status
     real(rp), allocatable :: smax(:), area(:)
-    integer(ip) :: e
+    integer(ip) :: e, nd
     integer :: f, nf
-    pf%u = self%phys%u - self%u_geo
+    pf%u = self%phys%nodal_u(self%mesh)
+    if (self%geo%on) then
+      do nd = 1, self%mesh%n_nodes
+        pf%u(3*nd-2:3*nd) = pf%u(3*nd-2:3*nd) - self%u_geo(self%phys%mech%u%dof(nd, [1_ip, 2_ip, 3_ip]))
+      end do
+    end if
     allocate(pf%stress(6, self%mesh%cell_map%n_owned))
     call self%phys%mech%cell_stress(self%mesh, self%phys%u, pf%stress)
     nf = size(self%mesh%fault_names)
@@ -844,10 +867,14 @@ contains
     class(contact_simulation_t), intent(in) :: self
     type(param_group_t), allocatable, intent(out) :: groups(:)
     type(param_group_t), allocatable :: common(:)
-    integer :: k, n
+    integer :: k, n, nflow
     call common_parameter_groups(self, common)
     n = size(common)
-    allocate(groups(n + size(self%faults) + 1 + merge(1 + size(self%wells) + size(self%pbcs), 0, self%flow)))
+    ! (not merge: it would take the sizes of the flow's arrays, which a
+    ! contact run never allocates)
+    nflow = 0
+    if (self%flow) nflow = 1 + size(self%wells) + size(self%pbcs)
+    allocate(groups(n + size(self%faults) + 1 + nflow))
     groups(1:n) = common
     do k = 1, size(self%faults)
       call self%faults(k)%describe(groups(n + k))

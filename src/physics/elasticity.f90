@@ -9,6 +9,14 @@
 !> constant traction vector ('traction') or a traction along the outward unit
 !> normal ('normal_traction', evaluated at each quadrature point of the face:
 !> t dA = value * the face's area vector, which points out of its cell).
+!>
+!> Enriched (init with bubbles, contact's face-bubble space): the cells on
+!> the faults also carry face bubbles (face_bubbles.f90), 3 dofs each in the
+!> displacement field after the nodes (dof_map's init_extra). Their element
+!> matrices, Q1 and bubbles together, take 3x3x3 Gauss points (2x2x2 is not
+!> exact for the bubble's products); the other cells keep 2x2x2. The bubbles
+!> vanish on the boundary faces, so only the body force loads them; stresses
+!> are from the nodal part.
 module elasticity
   use kinds, only: rp, ip, gp, name_len, msg_len
   use parallel_comm, only: parallel_comm_t
@@ -18,7 +26,8 @@ module elasticity
   use dof_map, only: dof_map_t
   use sparsity, only: element_pattern
   use quadrature, only: gauss_hex, gauss_quad
-  use hex_q1, only: hex_gradients, quad_shape, quad_area_vector
+  use hex_q1, only: hex_gradients, quad_shape, quad_area_vector, hex_face_bubble, hex_shape, inverse3
+  use face_bubbles, only: face_bubbles_t
   use material_config, only: material_config_t
   use boundary_config, only: boundary_config_t
   use vector_function, only: vector_function_t
@@ -56,6 +65,8 @@ module elasticity
     integer(ip), allocatable :: dp_group(:)  !< per region: its &pressure_change, 0: none
     real(rp), allocatable :: dp_biot(:)      !< per region: Biot coefficient of its rock
     real(rp), allocatable :: dp_now(:)       !< per region: pore pressure change at the current time, at full load [Pa]
+    logical :: enriched = .false.            !< the fault cells carry face bubbles
+    type(face_bubbles_t) :: bub              !< the bubbles (enriched)
   contains
     procedure :: init
     procedure :: init_in_situ
@@ -65,6 +76,8 @@ module elasticity
     procedure :: assemble
     procedure :: assemble_into
     procedure :: element_stiffness
+    procedure :: cell_dofs
+    procedure :: stiffness_pattern
     procedure :: cell_stress
     procedure :: set_time
     procedure :: prescribed_value
@@ -85,12 +98,13 @@ contains
 
   !> Dofs, pattern of K, materials per region and boundary data. Collective.
   !> Every region needs a material; every condition's set must exist.
-  subroutine init(self, mesh, mats, bcs, status)
+  subroutine init(self, mesh, mats, bcs, status, bubbles)
     class(elasticity_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     type(material_config_t), intent(in) :: mats(:)
     type(boundary_config_t), intent(in) :: bcs(:)
     type(error_status_t), intent(inout) :: status
+    type(face_bubbles_t), intent(in), optional :: bubbles   !< enrich the fault cells with these
     integer(ip), allocatable :: row_ptr(:), col(:)
     integer(ip) :: r, m, b, s, i, n, c, f, nt
     real(rp) :: tol(3)
@@ -125,8 +139,14 @@ contains
       end if
     end do
 
-    call self%u%init('displacement', mesh%node_map, 3)
-    call element_pattern(mesh%node_map%n_owned, mesh%cell_nodes, mesh%cell_nodes, 3, 3, row_ptr, col)
+    self%enriched = present(bubbles)
+    if (self%enriched) then
+      self%bub = bubbles
+      call self%u%init_extra('displacement', mesh%node_map, bubbles%map, 3)
+    else
+      call self%u%init('displacement', mesh%node_map, 3)
+    end if
+    call self%stiffness_pattern(mesh, row_ptr, col)
     call self%k%init(self%u%map, self%u%map, row_ptr, col)
     allocate(self%rhs(self%u%n_owned()))
 
@@ -309,30 +329,119 @@ contains
     type(dist_mesh_t), intent(in) :: mesh
     integer(ip), intent(in) :: c
     real(rp), intent(out) :: ke(24, 24)
-    real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, lam, mu
-    integer(ip) :: q, a, bb, i, j, r
+    real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det
+    integer(ip) :: q, r
     call gauss_hex(2_ip, xi, w)
     x = mesh%coords(:, mesh%cell_nodes(:, c))
     r = mesh%cell_region(c)
-    lam = self%lambda(r)
-    mu = self%mu(r)
     ke = 0.0_rp
     do q = 1, 8
       call hex_gradients(x, xi(:, q), n, g, det)
-      det = det * w(q)
-      do bb = 1, 8
-        do a = 1, 8
-          do j = 1, 3
-            do i = 1, 3
-              ke(3*(a-1)+i, 3*(bb-1)+j) = ke(3*(a-1)+i, 3*(bb-1)+j) + det * &
-                (lam * g(i, a) * g(j, bb) + mu * g(j, a) * g(i, bb))
-            end do
-            ke(3*(a-1)+j, 3*(bb-1)+j) = ke(3*(a-1)+j, 3*(bb-1)+j) + det * mu * dot_product(g(:, a), g(:, bb))
+      call add_point_stiffness(ke, g, det * w(q), self%lambda(r), self%mu(r))
+    end do
+  end subroutine element_stiffness
+
+  !> ke += wd * B^T D B at one point for the shape function gradients g(3, m)
+  !> (dofs function by function, x y z).
+  pure subroutine add_point_stiffness(ke, g, wd, lam, mu)
+    real(rp), intent(inout) :: ke(:,:)
+    real(rp), intent(in) :: g(:,:), wd, lam, mu
+    integer(ip) :: a, bb, i, j
+    do bb = 1, size(g, 2, kind=ip)
+      do a = 1, size(g, 2, kind=ip)
+        do j = 1, 3
+          do i = 1, 3
+            ke(3*(a-1)+i, 3*(bb-1)+j) = ke(3*(a-1)+i, 3*(bb-1)+j) + wd * &
+              (lam * g(i, a) * g(j, bb) + mu * g(j, a) * g(i, bb))
           end do
+          ke(3*(a-1)+j, 3*(bb-1)+j) = ke(3*(a-1)+j, 3*(bb-1)+j) + wd * mu * dot_product(g(:, a), g(:, bb))
         end do
       end do
     end do
-  end subroutine element_stiffness
+  end subroutine add_point_stiffness
+
+  !> The local dofs of owned or ghost cell c: its 8 nodes, then its bubbles
+  !> (enriched); nd of them.
+  subroutine cell_dofs(self, mesh, c, dofs, nd)
+    class(elasticity_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: c
+    integer(ip), intent(out) :: dofs(:), nd
+    integer(ip) :: a, j
+    do a = 1, 8
+      dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
+    end do
+    nd = 24
+    if (.not. self%enriched) return
+    do j = self%bub%cell_ptr(c), self%bub%cell_ptr(c + 1) - 1
+      dofs(nd+1:nd+3) = self%u%extra_dof(j, [1_ip, 2_ip, 3_ip])
+      nd = nd + 3
+    end do
+  end subroutine cell_dofs
+
+  !> CSR pattern (local dofs) of K's owned rows: every cell couples its
+  !> nodes and bubbles.
+  subroutine stiffness_pattern(self, mesh, row_ptr, col)
+    class(elasticity_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), allocatable, intent(out) :: row_ptr(:), col(:)
+    integer(ip), allocatable :: conn(:,:)
+    integer(ip) :: c, j
+    if (.not. self%enriched) then
+      call element_pattern(mesh%node_map%n_owned, mesh%cell_nodes, mesh%cell_nodes, 3_ip, 3_ip, row_ptr, col)
+      return
+    end if
+    allocate(conn(14, mesh%n_cells))
+    conn = 0
+    do c = 1, mesh%n_cells
+      conn(1:8, c) = self%u%entity(mesh%cell_nodes(:, c))
+      do j = self%bub%cell_ptr(c), self%bub%cell_ptr(c + 1) - 1
+        conn(8 + j - self%bub%cell_ptr(c) + 1, c) = self%u%extra_entity(j)
+      end do
+    end do
+    call element_pattern(self%u%map%n_owned / 3, conn, conn, 3_ip, 3_ip, row_ptr, col)
+  end subroutine stiffness_pattern
+
+  !> Element stiffness ke(nd, nd) and body load fe(nd) (at full load) of
+  !> local cell c with its bubbles (enriched), by 3x3x3 Gauss points; dofs
+  !> as cell_dofs gives them. body: added to the region's body force.
+  subroutine enriched_element(self, mesh, c, ke, fe, loaded, body)
+    class(elasticity_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: c
+    real(rp), intent(out) :: ke(:,:), fe(:)
+    logical, intent(in) :: loaded
+    class(vector_function_t), intent(in), optional :: body
+    real(rp) :: x(3, 8), xi(3, 27), w(27), n(8), dn(3, 8), jm(3, 3), ji(3, 3), det, b, db(3), bf(3)
+    real(rp), allocatable :: g(:,:), nv(:)
+    integer(ip) :: q, r, m, k, a
+    call gauss_hex(3_ip, xi, w)
+    x = mesh%coords(:, mesh%cell_nodes(:, c))
+    r = mesh%cell_region(c)
+    m = 8 + self%bub%cell_ptr(c + 1) - self%bub%cell_ptr(c)
+    allocate(g(3, m), nv(m))
+    ke = 0.0_rp
+    fe = 0.0_rp
+    do q = 1, 27
+      call hex_shape(xi(:, q), n, dn)
+      jm = matmul(dn, transpose(x))
+      call inverse3(jm, ji, det)
+      g(:, 1:8) = matmul(ji, dn)
+      nv(1:8) = n
+      do k = 9, m
+        call hex_face_bubble(xi(:, q), self%bub%face(self%bub%cell_ptr(c) + k - 9), b, db)
+        g(:, k) = matmul(ji, db)
+        nv(k) = b
+      end do
+      call add_point_stiffness(ke, g, det * w(q), self%lambda(r), self%mu(r))
+      if (.not. loaded) cycle
+      bf = self%body(:, r)
+      if (present(body)) bf = bf + body%eval(matmul(x, n))
+      do a = 1, m
+        fe(3*a-2:3*a) = fe(3*a-2:3*a) + nv(a) * bf * det * w(q)
+      end do
+    end do
+  end subroutine enriched_element
 
   !> Assemble K into k (pattern of self%k) and the right-hand side into rhs
   !> (owned dofs) at load factor lf (loads and prescribed displacements scaled
@@ -351,12 +460,12 @@ contains
     class(vector_function_t), intent(in), optional :: body, dirichlet
     logical, intent(in), optional :: rhs_only
     real(rp), allocatable :: f_loc(:)
-    real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, ke(24, 24), fe(24), ue(24), xq(3), bf(3)
+    real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, ke(42, 42), fe(42), ue(42), xq(3), bf(3)
     real(rp) :: xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), da, av(3)
-    integer(ip) :: c, q, a, i, j, dofs(24), r, t, f, nown
+    integer(ip) :: c, q, a, i, j, dofs(42), r, t, f, nown, nd
     type(parallel_comm_t) :: comm
     real(rp) :: dsum, dcount
-    logical :: matrix, loaded, lifted
+    logical :: matrix, loaded, lifted, bubbles
 
     matrix = .true.
     if (present(rhs_only)) matrix = .not. rhs_only
@@ -367,12 +476,13 @@ contains
     do c = 1, mesh%cell_map%n_owned
       x = mesh%coords(:, mesh%cell_nodes(:, c))
       r = mesh%cell_region(c)
-      do a = 1, 8
-        dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
-      end do
+      call self%cell_dofs(mesh, c, dofs, nd)
+      bubbles = nd > 24
       loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp) .or. self%geo%on .or. self%dp_now(r) /= 0.0_rp
-      ! known values of the prescribed dofs; only nonzero ones lift the right-hand side
+      ! known values of the prescribed dofs (nodes only: bubbles are free);
+      ! only nonzero ones lift the right-hand side
       lifted = .false.
+      ue = 0.0_rp
       do j = 1, 24
         if (.not. self%fixed(dofs(j))) cycle
         a = (j - 1) / 3 + 1
@@ -381,37 +491,42 @@ contains
         lifted = lifted .or. ue(j) /= 0.0_rp
       end do
       if (.not. (matrix .or. lifted .or. loaded)) cycle
-      if (matrix .or. lifted) call self%element_stiffness(mesh, c, ke)
       fe = 0.0_rp
-      if (loaded) then
-        do q = 1, 8
-          call hex_gradients(x, xi(:, q), n, g, det)
-          det = det * w(q)
-          bf = self%body(:, r)
-          if (present(body)) then
-            xq = matmul(x, n)
-            bf = bf + body%eval(xq)
-          end if
-          do a = 1, 8
-            ! the pore pressure change: b dp div(eta)
-            fe(3*a-2:3*a) = fe(3*a-2:3*a) + n(a) * bf * det + self%dp_biot(r) * self%dp_now(r) * g(:, a) * det
+      if (bubbles) then
+        ! (&geostatic and &pressure_change are refused with the bubble space)
+        call enriched_element(self, mesh, c, ke(1:nd, 1:nd), fe(1:nd), loaded, body)
+      else
+        if (matrix .or. lifted) call self%element_stiffness(mesh, c, ke(1:24, 1:24))
+        if (loaded) then
+          do q = 1, 8
+            call hex_gradients(x, xi(:, q), n, g, det)
+            det = det * w(q)
+            bf = self%body(:, r)
+            if (present(body)) then
+              xq = matmul(x, n)
+              bf = bf + body%eval(xq)
+            end if
+            do a = 1, 8
+              ! the pore pressure change: b dp div(eta)
+              fe(3*a-2:3*a) = fe(3*a-2:3*a) + n(a) * bf * det + self%dp_biot(r) * self%dp_now(r) * g(:, a) * det
+            end do
           end do
-        end do
+        end if
       end if
       fe = lf * fe
-      if (self%geo%on) call in_situ_cell(self, mesh, c, fe)
+      if (self%geo%on) call in_situ_cell(self, mesh, c, fe(1:24))
       ! prescribed dofs: move their known values to the right-hand side
       do j = 1, 24
         if (.not. self%fixed(dofs(j))) cycle
         if (matrix .or. lifted) then
-          fe = fe - ke(:, j) * ue(j)
-          ke(:, j) = 0.0_rp
-          ke(j, :) = 0.0_rp
+          fe(1:nd) = fe(1:nd) - ke(1:nd, j) * ue(j)
+          ke(1:nd, j) = 0.0_rp
+          ke(j, 1:nd) = 0.0_rp
         end if
         fe(j) = 0.0_rp
       end do
-      if (matrix) call k%add_block(dofs, dofs, ke)
-      f_loc(dofs) = f_loc(dofs) + fe
+      if (matrix) call k%add_block(dofs(1:nd), dofs(1:nd), ke(1:nd, 1:nd))
+      f_loc(dofs(1:nd)) = f_loc(dofs(1:nd)) + fe(1:nd)
     end do
 
     ! tractions

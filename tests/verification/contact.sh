@@ -13,7 +13,11 @@
 #  - a fault in stick under a homogeneous stress: the intact solution exactly;
 #  - a partly slipping fracture with tips in a block: 1 vs 2 ranks to 1e-8
 #    with the fracture shared by both ranks; the three block preconditioners
-#    (FGMRES) give MUMPS's solution; its <prefix>_fractures.xdmf read by meshio.
+#    (FGMRES) give MUMPS's solution; its <prefix>_fractures.xdmf read by meshio;
+#  - the face-bubble space (&contact space = 'bubble', a pure saddle point):
+#    Sneddon and the inclined crack with the same tolerances, 1 vs 2 ranks,
+#    the stick fault's intact solution, the partly slipping fracture on 1 and
+#    2 ranks and with FGMRES (augmented preconditioner) against MUMPS.
 set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -34,6 +38,9 @@ run() {  # name, ranks
   ko "run $1 on $2 rank(s), see $out/$1.log"
   return 1
 }
+space() {  # name, space: a deck of the face-bubble space gets its &contact group
+  [ "$2" = stabilized ] || printf "&contact\n  space = '%s'\n/\n" "$2" >> "$out/$1.nml"
+}
 check() {  # label, command...
   local label=$1 r; shift
   if r=$("$@" 2>&1); then ok "$label: $(echo "$r" | grep -v '^figure' | tr '\n' ' ')"; else ko "$label: $(echo "$r" | tr '\n' ' ')"; fi
@@ -42,10 +49,14 @@ error_of() {  # run, case, quantity
   $PY postproc/plot_fracture.py "$out/$1" --case "$2" --png "$out/$1.png" | awk -v q="$3" '$1 == "error" && $2 == q {print $3}'
 }
 
-# Sneddon
-deck sneddon input/sneddon.nml
-run sneddon 2 && check "Sneddon opening, every element (2 ranks, tol 3%)" $PY postproc/plot_fracture.py "$out/sneddon" --case sneddon \
-  --check 0.03 --png "$out/sneddon.png"
+# Sneddon, both spaces
+for sp in stabilized bubble; do
+  sfx=${sp#stabilized}; s=sneddon${sfx:+_$sfx}
+  deck "$s" input/sneddon.nml
+  space "$s" "$sp"
+  run "$s" 2 && check "Sneddon opening, every element (2 ranks, tol 3%, space $sp)" $PY postproc/plot_fracture.py \
+    "$out/$s" --case sneddon --check 0.03 --png "$out/$s.png"
+done
 e=()
 for lv in "24 6 80 60" "48 10 110 80" "96 20 180 130"; do
   set -- $lv
@@ -72,13 +83,19 @@ phan_check() {  # label, run, slip tol (L2), traction tol (every element)
     ko "$1: $(echo "$r" | tr '\n' ' ')"
   fi
 }
-deck phan1 input/single_fracture.nml
-deck phan2 input/single_fracture.nml
-run phan1 1 && phan_check "inclined crack, slip 5 %, every element's t_N, |t_T| 1 % (1 rank)" phan1 0.05 0.01
-if run phan2 2; then
-  phan_check "inclined crack (2 ranks)" phan2 0.05 0.01
-  check "inclined crack, 1 vs 2 ranks (1e-8)" $PY tests/verification/check_contact.py same "$out/phan1" "$out/phan2" 1e-8
-fi
+for sp in stabilized bubble; do
+  sfx=${sp#stabilized}; s=phan${sfx:+_$sfx}
+  deck "${s}1" input/single_fracture.nml
+  deck "${s}2" input/single_fracture.nml
+  space "${s}1" "$sp"
+  space "${s}2" "$sp"
+  run "${s}1" 1 && phan_check "inclined crack, slip 5 %, every element's t_N, |t_T| 1 % (1 rank, space $sp)" "${s}1" 0.05 0.01
+  if run "${s}2" 2; then
+    phan_check "inclined crack (2 ranks, space $sp)" "${s}2" 0.05 0.01
+    check "inclined crack, 1 vs 2 ranks (1e-8, space $sp)" $PY tests/verification/check_contact.py same "$out/${s}1" \
+      "$out/${s}2" 1e-8
+  fi
+done
 # refinement with other parameters: psi = 30 degrees, friction 20 degrees,
 # E = 30 GPa, nu = 0.3, sigma = 20 MPa (b = 1 m: the core spans b cos(psi))
 e=()
@@ -155,6 +172,26 @@ if run block_inner 2; then
 fi
 grep -q "stick/slip/open [0-9]*/[1-9]" "$out/block_mumps.log" && ok "the block case has slipping elements" || \
   ko "the block case has no slipping element"
+
+# the face-bubble space: stick = intact; the partly slipping fracture on 1
+# and 2 ranks, and with FGMRES and its default block preconditioner
+# ('augmented', with no H_t) against MUMPS, at the same tolerances
+deck stick_bubble tests/decks/contact_stick.nml
+space stick_bubble bubble
+run stick_bubble 2 && check "stick fault = intact solution (space bubble, MUMPS, 2 ranks)" $PY \
+  tests/verification/check_contact.py stick "$out/stick_bubble"
+deck block_mumps_bubble tests/decks/contact_block.nml
+deck block_mumps1_bubble tests/decks/contact_block.nml
+deck block_augmented_bubble tests/decks/contact_block.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
+for s in block_mumps_bubble block_mumps1_bubble block_augmented_bubble; do space "$s" bubble; done
+if run block_mumps_bubble 2 && run block_mumps1_bubble 1; then
+  check "space bubble: partly slipping fracture, 1 vs 2 ranks (1e-8)" $PY tests/verification/check_contact.py same \
+    "$out/block_mumps1_bubble" "$out/block_mumps_bubble" 1e-8
+  grep -q "stick/slip/open [0-9]*/[1-9]" "$out/block_mumps_bubble.log" && ok "space bubble: the block case slips" || \
+    ko "space bubble: the block case has no slipping element"
+  run block_augmented_bubble 2 && check "space bubble: FGMRES with the augmented preconditioner vs MUMPS (1e-6)" $PY \
+    tests/verification/check_contact.py same "$out/block_mumps_bubble" "$out/block_augmented_bubble" 1e-6
+fi
 
 echo "suite contact: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

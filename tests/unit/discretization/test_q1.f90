@@ -1,12 +1,15 @@
 !> Unit tests of the Q1 hexahedron and the Gauss rules: Kronecker property,
 !> partition of unity, reproduction of linear fields, exactness degrees of the
-!> 1D rules, volumes of mapped cells and areas of quads.
+!> 1D rules, volumes of mapped cells and areas of quads; the face bubbles of
+!> contact's bubble space (zero on the other faces, their trace on their own,
+!> derivatives, the face integral 4/9 of a parallelogram's area).
 program test_q1
   use kinds, only: rp, ip
   use parallel_comm, only: parallel_comm_t
   use assertions, only: test_suite_t
   use quadrature, only: gauss_1d, gauss_quad, gauss_hex
-  use hex_q1, only: hex_shape, hex_gradients, quad_shape, quad_area_vector
+  use hex_q1, only: hex_shape, hex_gradients, quad_shape, quad_area_vector, hex_face_bubble
+  use interface_element, only: face_bubble_integral
   implicit none
 
   type(parallel_comm_t) :: comm
@@ -101,9 +104,65 @@ program test_q1
   call quad_shape([0.3_rp, -0.6_rp], nq, dnq)
   call suite%assert_close(sum(nq), 1.0_rp, 1.0e-15_rp, 'quad shape functions sum to 1')
 
+  call face_bubble_checks()
+
   call suite%finish()
 
 contains
+
+  !> hex_face_bubble of every face at points of every face: zero on the
+  !> other five, (1 - a^2)(1 - b^2) on its own (a, b the other two
+  !> coordinates); its derivatives against central differences (exact for
+  !> the quadratic factors up to round-off); the integral of the trace over
+  !> a parallelogram (4/9 of its area) and over a trapezoid (2x2 x 2x2
+  !> rule of the bilinear area density: 3x3 Gauss is exact).
+  subroutine face_bubble_checks()
+    real(rp) :: xb(3), b, db(3), bp, bm, dummy(3), e_face, e_other, e_der, h, quad(3, 4)
+    integer(ip) :: f, k, d, t
+    e_face = 0.0_rp
+    e_other = 0.0_rp
+    e_der = 0.0_rp
+    h = 1.0e-4_rp
+    do f = 1, 6
+      do k = 1, 6
+        do t = 1, 5
+          xb = [sin(1.7_rp * t + k), cos(0.9_rp * t + f), sin(0.4_rp * t * k)]
+          d = (k + 1) / 2
+          xb(d) = merge(-1.0_rp, 1.0_rp, mod(k, 2_ip) == 1)
+          call hex_face_bubble(xb, f, b, db)
+          if (k == f) then
+            e_face = max(e_face, abs(b - product(1.0_rp - xb**2, mask=[(i /= d, i = 1, 3)])))
+          else
+            e_other = max(e_other, abs(b))
+          end if
+        end do
+      end do
+      xb = [0.31_rp, -0.47_rp, 0.12_rp]
+      call hex_face_bubble(xb, f, b, db)
+      do d = 1, 3
+        xb(d) = xb(d) + h
+        call hex_face_bubble(xb, f, bp, dummy)
+        xb(d) = xb(d) - 2.0_rp * h
+        call hex_face_bubble(xb, f, bm, dummy)
+        xb(d) = xb(d) + h
+        e_der = max(e_der, abs((bp - bm) / (2.0_rp * h) - db(d)))
+      end do
+    end do
+    call suite%assert_close(e_face, 0.0_rp, 1.0e-15_rp, 'face bubble: its trace (1-a^2)(1-b^2) on its own face')
+    call suite%assert_close(e_other, 0.0_rp, 1.0e-15_rp, 'face bubble: zero on the other five faces')
+    call suite%assert_close(e_der, 0.0_rp, 1.0e-9_rp, 'face bubble: derivatives = central differences')
+    quad = reshape([0.0_rp, 0.0_rp, 0.0_rp, 2.0_rp, 0.0_rp, 0.5_rp, 2.5_rp, 1.0_rp, 0.5_rp, &
+                    0.5_rp, 1.0_rp, 0.0_rp], [3, 4])
+    v = norm2(quad_area_vector(quad, [0.0_rp, 0.0_rp])) * 4.0_rp
+    call suite%assert_close(face_bubble_integral(quad), 4.0_rp / 9.0_rp * v, 1.0e-14_rp * v, &
+                            'face bubble integral over a parallelogram = 4/9 area')
+    ! trapezoid (0,0), (2,0), (1.5,1), (0.5,1): area density 1/4 (1.5 - 0.5 eta)
+    ! in the reference square, so the integral is (4/3)(4/3)(1.5/4) = 2/3
+    quad = reshape([0.0_rp, 0.0_rp, 0.0_rp, 2.0_rp, 0.0_rp, 0.0_rp, 1.5_rp, 1.0_rp, 0.0_rp, &
+                    0.5_rp, 1.0_rp, 0.0_rp], [3, 4])
+    call suite%assert_close(face_bubble_integral(quad), 2.0_rp / 3.0_rp, 1.0e-14_rp, &
+                            'face bubble integral over a trapezoid = 2/3 (its bilinear area density)')
+  end subroutine face_bubble_checks
 
   real(rp) function exact_moment(k)
     integer(ip), intent(in) :: k
