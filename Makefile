@@ -106,19 +106,15 @@ test: deps
 	$(MAKE) all tests
 	@bash tests/run_tests.sh
 
-# Benchmarks (long: more than an hour with MUMPS): elasticity, Mandel with every
-# block preconditioner variant, our aFSAI against hypre's FSAI, frictional
-# contact with every contact preconditioner on 5 levels.
+# Benchmarks (long: hours with MUMPS): elasticity, Mandel with every block
+# preconditioner variant, the Treporti and Reservoir stand-ins, our aFSAI
+# against hypre's FSAI, frictional contact with every contact preconditioner
+# on 5 levels, the fluid in the fractures, the peers (PETSc, hypre MGR, MUMPS)
+# on the same systems, strong scaling; bench/run_all.sh times each script and
+# writes build/bench/REPORT.md (machine, date, commit, every table).
 bench: deps
 	$(MAKE) all
-	@bash bench/run_bench.sh
-	@bash bench/run_bench_biot.sh
-	@bash bench/run_bench_standins.sh
-	@bash bench/run_bench_fsai.sh
-	@bash bench/run_bench_contact.sh
-	@bash bench/run_bench_flow.sh
-	@bash bench/run_bench_peers.sh
-	@bash bench/run_bench_scaling.sh
+	@bash bench/run_all.sh
 
 clean:
 	rm -rf build bin
