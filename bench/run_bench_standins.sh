@@ -8,7 +8,8 @@
 # reference; a variant that does not converge within max_iter is reported so
 # (fail_on_no_convergence = .false.). Then MUMPS on Treporti at one gamma.
 # Usage: bench/run_bench_standins.sh [cases] [ranks] [gammas] [variants] [mumps gamma, 'no': none]
-# Writes build/bench/standins.md.
+# Writes build/bench/standins.md (TABLE=path: elsewhere). LIMIT=seconds
+# stops a run after that long (its row says so; default: no limit).
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -21,7 +22,8 @@ mumps_gamma=${5:-86400}
 . bench/biot_bench_lib.sh
 out=build/bench
 mkdir -p "$out"
-table=$out/standins.md
+table=${TABLE:-$out/standins.md}
+limit=${LIMIT:-0}
 # the seed's aFSAI iterations at gamma = 0.01, 1, 100 days
 seed_its() {
   case $1:$2 in
@@ -47,10 +49,16 @@ for c in $cases; do
           -e "s#dir = 'out', prefix = '$c'#dir = '$out/$name', prefix = '$c', fields = .false.#" \
           "input/$c.nml" > "$out/$name.nml"
       log=$out/$name.log
-      /usr/bin/time -v mpirun --oversubscribe -np "$np" bin/geoblock "$out/$name.nml" > "$log" 2>&1
+      if [ "$limit" -gt 0 ]; then
+        /usr/bin/time -v timeout "$limit" mpirun --oversubscribe -np "$np" bin/geoblock "$out/$name.nml" > "$log" 2>&1
+      else
+        /usr/bin/time -v mpirun --oversubscribe -np "$np" bin/geoblock "$out/$name.nml" > "$log" 2>&1
+      fi
+      rc=$?
       parse_biot_log "$log"
       [ "$conv" = no ] && its="$its (not converged: rel. res. $rres)"
       [ -z "$its" ] && its="(failed, see $log)"
+      [ "$limit" -gt 0 ] && [ "$rc" -eq 124 ] && its="(stopped after $limit s)"
       printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$c" "$tot" "$np" "$s" "$g" \
         "${mu:--}" "$its" "$tp1" "$tp2" "$ts" "${ref:--}" "$ratio" "$rss" "$(seed_its "$c" "$g")" | tee -a "$table"
     done
