@@ -4,11 +4,15 @@
 !> and the fracture flow's two-point fluxes cross it (fracture_flow).
 !>
 !> An edge is the side k (nodes k and k+1 of the minus-side quad) of an
-!> element. Positions on a fault are identified by the smaller of their two
-!> node ids, so that the two sides and either orientation give the same key.
-!> Kept: edges with exactly two elements on them, at least one owned (a tip
-!> edge has one element; a junction of three or more fault elements is left
-!> out, the faults do not exchange there). Geometry from the minus-side
+!> element. Positions on a fault are identified by the smaller of the
+!> original (pre-partition) ids of their two nodes, so that the two sides
+!> and either orientation give the same key on any number of ranks.
+!> Kept: edges with exactly two elements on them, both of the same fault, at
+!> least one owned (a tip edge has one element; a junction of three or more
+!> fault elements is left out, the faults do not exchange there). Where
+!> faults cross or meet, a node has up to four copies and two elements of
+!> different faults can share a key: such a pair is no edge (it once was,
+!> and with local ids the pairs there depended on the partition). Geometry from the minus-side
 !> coordinates of the mesh as read (small deformations):
 !>   length(ed)    the edge's length [m];
 !>   dist(s, ed)   distance [m] from the centre of element pair(s, ed) (the
@@ -53,8 +57,8 @@ contains
     m = 0
     do e = 1, n
       do k = 1, 4
-        a = min(mesh%iface_nodes(k, 1, e), mesh%iface_nodes(k, 2, e))
-        b = min(mesh%iface_nodes(mod(k, 4) + 1, 1, e), mesh%iface_nodes(mod(k, 4) + 1, 2, e))
+        a = orig_min(mesh, mesh%iface_nodes(k, :, e))
+        b = orig_min(mesh, mesh%iface_nodes(mod(k, 4) + 1, :, e))
         m = m + 1
         key(:, m) = [min(a, b), max(a, b), e, k]
       end do
@@ -73,7 +77,7 @@ contains
       if (j == i + 1) then
         e1 = key(3, order(i))
         e2 = key(3, order(j))
-        if (e1 /= e2 .and. (e1 <= nown .or. e2 <= nown)) then
+        if (e1 /= e2 .and. (e1 <= nown .or. e2 <= nown) .and. mesh%iface_fault(e1) == mesh%iface_fault(e2)) then
           self%n = self%n + 1
           if (e1 > e2) then
             self%pair(:, self%n) = [e2, e1]
@@ -92,6 +96,13 @@ contains
     self%side = self%side(:, 1:self%n)
     call geometry(self, mesh)
   end subroutine build
+
+  !> The smaller original id of the two copies nodes(1:2) of a fault node.
+  integer(ip) function orig_min(mesh, nodes)
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: nodes(2)
+    orig_min = int(min(mesh%node_orig(nodes(1)), mesh%node_orig(nodes(2))), ip)
+  end function orig_min
 
   !> Edge lengths and the centre-to-edge distances (the distance from the
   !> centre to the edge's line: in the element's plane, along its normal to
