@@ -4,7 +4,8 @@
 # at tips, a geostatic start and one load step, on 1 and 2 ranks.
 #  - the mesh read as make_hi24l.py counted it (11,631 nodes after the
 #    split, 2,138 interface elements, n_u = 34,893, n_t = 6,414);
-#  - step 0 keeps every element stuck, the load step makes some slip or open
+#  - step 0 keeps every element stuck, the load step (a 20 MPa depletion of
+#    the reservoir sands) makes some slip or open
 #    (the active set works across the junctions);
 #  - 1 vs 2 ranks: the same statuses and the same stress to 1e-7 (the
 #    stabilization edges at crossing and T-junction lines once depended on
