@@ -7,7 +7,7 @@
 set -u
 cd "$(dirname "$0")/.."
 scripts=${*:-"run_bench.sh run_bench_biot.sh run_bench_standins.sh run_bench_fsai.sh run_bench_contact.sh \
-run_bench_flow.sh run_bench_peers.sh run_bench_scaling.sh"}
+run_bench_flow.sh run_bench_hi24l.sh run_bench_peers.sh run_bench_scaling.sh"}
 mkdir -p build/bench
 times=build/bench/durations.txt
 : > "$times"
