@@ -59,7 +59,7 @@ module elasticity
     type(boundary_config_t), allocatable :: bcs(:)
     real(rp), allocatable :: bc_factor(:)    !< history factor of each condition at the current time
     type(geostatic_t) :: geo                 !< the in-situ state (&geostatic), if any
-    integer(ip), allocatable :: geo_face(:)  !< boundary faces of owned cells held by the in-situ stress
+    real(rp), allocatable :: geo_load(:)     !< (local dofs, before export_add) the in-situ load: it does not change
     real(rp) :: box_tol(3) = 0.0_rp          !< tolerance of the conditions' boxes [m] (face_box)
     type(pressure_change_config_t), allocatable :: pcs(:)   !< &pressure_change groups
     integer(ip), allocatable :: dp_group(:)  !< per region: its &pressure_change, 0: none
@@ -478,7 +478,7 @@ contains
       r = mesh%cell_region(c)
       call self%cell_dofs(mesh, c, dofs, nd)
       bubbles = nd > 24
-      loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp) .or. self%geo%on .or. self%dp_now(r) /= 0.0_rp
+      loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp) .or. self%dp_now(r) /= 0.0_rp
       ! known values of the prescribed dofs (nodes only: bubbles are free);
       ! only nonzero ones lift the right-hand side
       lifted = .false.
@@ -514,7 +514,6 @@ contains
         end if
       end if
       fe = lf * fe
-      if (self%geo%on) call in_situ_cell(self, mesh, c, fe(1:24))
       ! prescribed dofs: move their known values to the right-hand side
       do j = 1, 24
         if (.not. self%fixed(dofs(j))) cycle
@@ -552,7 +551,7 @@ contains
       end do
     end do
 
-    if (self%geo%on) call in_situ_faces(self, mesh, f_loc)
+    if (self%geo%on) f_loc = f_loc + self%geo_load
     if (matrix) call k%finalize_assembly()
     call self%u%map%export_add(f_loc)
     nown = self%u%n_owned()
@@ -595,9 +594,11 @@ contains
   end subroutine assemble_into
 
   !> The in-situ state of cfg (&geostatic; nothing when it is off): the
-  !> state itself and the boundary faces its stress holds (every boundary
+  !> state itself and its load (in_situ_cell over the owned cells,
+  !> in_situ_faces over the boundary faces its stress holds: every boundary
   !> face of an owned cell but the two sides of a fault, where the
-  !> tractions are unknowns). Call after init. Collective.
+  !> tractions are unknowns), made once: assemble_into adds it at every
+  !> load factor. Call after init. Collective.
   subroutine init_in_situ(self, mesh, cfg, mats, status)
     class(elasticity_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
@@ -605,7 +606,9 @@ contains
     type(material_config_t), intent(in) :: mats(:)
     type(error_status_t), intent(inout) :: status
     logical, allocatable :: fault_side(:)
-    integer(ip) :: e, s, c, k, f, n
+    integer(ip), allocatable :: faces(:)
+    real(rp) :: fe(24)
+    integer(ip) :: e, s, c, k, f, n, a, dofs(24)
     call self%geo%init(cfg, mats, mesh, status)
     if (.not. (self%geo%on .and. status%ok())) return
     allocate(fault_side(mesh%n_faces))
@@ -621,16 +624,26 @@ contains
         end do
       end do
     end do
-    allocate(self%geo_face(mesh%n_faces))
+    allocate(faces(mesh%n_faces))
     n = 0
     do f = 1, mesh%n_faces
       if (.not. mesh%face_on_boundary(f) .or. fault_side(f)) cycle
       c = mesh%face_cells(1, f)
       if (c < 1 .or. c > mesh%cell_map%n_owned) cycle
       n = n + 1
-      self%geo_face(n) = f
+      faces(n) = f
     end do
-    self%geo_face = self%geo_face(1:n)
+    allocate(self%geo_load(self%u%n_local()))
+    self%geo_load = 0.0_rp
+    do c = 1, mesh%cell_map%n_owned
+      do a = 1, 8
+        dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
+      end do
+      fe = 0.0_rp
+      call in_situ_cell(self, mesh, c, fe)
+      self%geo_load(dofs) = self%geo_load(dofs) + fe
+    end do
+    call in_situ_faces(self, mesh, faces(1:n), self%geo_load)
   end subroutine init_in_situ
 
   !> The &pressure_change groups pcs on mesh, with the Biot coefficients of
@@ -697,17 +710,18 @@ contains
   end subroutine in_situ_cell
 
   !> f_loc += the in-situ tractions sigma_0 n on the boundary faces the
-  !> surrounding rock holds (geo_face): a model cut out of the ground stays
+  !> surrounding rock holds (faces): a model cut out of the ground stays
   !> in place under its own state whatever its boundary conditions.
-  subroutine in_situ_faces(self, mesh, f_loc)
+  subroutine in_situ_faces(self, mesh, faces, f_loc)
     type(elasticity_t), intent(in) :: self
     type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: faces(:)
     real(rp), intent(inout) :: f_loc(:)
     real(rp) :: xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), av(3), tr(3)
     integer(ip) :: k, f, q, a, r
     call gauss_quad(2_ip, xiq, wq)
-    do k = 1, size(self%geo_face, kind=ip)
-      f = self%geo_face(k)
+    do k = 1, size(faces, kind=ip)
+      f = faces(k)
       r = mesh%cell_region(mesh%face_cells(1, f))
       xf = mesh%coords(:, mesh%face_nodes(:, f))
       do q = 1, 4
@@ -724,35 +738,31 @@ contains
   end subroutine in_situ_faces
 
   !> How far the in-situ state is from equilibrium on this mesh: the
-  !> largest nodal force of its load (in_situ_cell and in_situ_faces, free
-  !> dofs only) over the largest nodal weight. Round-off for layers bounded
+  !> largest nodal force of its load (geo_load, free dofs only) over the
+  !> largest nodal weight. Round-off for layers bounded
   !> by horizontal planes; with faults, the forces their tractions must carry.
   !> Collective.
   real(rp) function in_situ_imbalance(self, mesh) result(ratio)
     class(elasticity_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp), allocatable :: f_loc(:), w_loc(:)
-    real(rp) :: fe(24), we(24), wmax
+    real(rp) :: we(24), wmax
     integer(ip) :: c, a, dofs(24)
     type(parallel_comm_t) :: comm
     ratio = 0.0_rp
     if (.not. self%geo%on) return
     comm = mesh%comm
-    allocate(f_loc(self%u%n_local()), w_loc(self%u%n_local()))
-    f_loc = 0.0_rp
+    f_loc = self%geo_load
+    allocate(w_loc(self%u%n_local()))
     w_loc = 0.0_rp
     do c = 1, mesh%cell_map%n_owned
       do a = 1, 8
         dofs(3*a-2:3*a) = self%u%dof(mesh%cell_nodes(a, c), [1_ip, 2_ip, 3_ip])
       end do
-      fe = 0.0_rp
-      call in_situ_cell(self, mesh, c, fe)
       we = 0.0_rp
       we(3::3) = self%geo%weight(mesh%cell_region(c)) * mesh%cell_volume(c) / 8.0_rp
-      f_loc(dofs) = f_loc(dofs) + fe
       w_loc(dofs) = w_loc(dofs) + we
     end do
-    call in_situ_faces(self, mesh, f_loc)
     call self%u%map%export_add(f_loc)
     call self%u%map%export_add(w_loc)
     associate (nown => self%u%n_owned())
@@ -854,7 +864,7 @@ contains
 
   subroutine free(self)
     class(elasticity_t), intent(inout) :: self
-    if (allocated(self%geo_face)) deallocate(self%geo_face)
+    if (allocated(self%geo_load)) deallocate(self%geo_load)
     self%geo = geostatic_t()
     if (allocated(self%dp_group)) deallocate(self%dp_group, self%dp_biot, self%dp_now)
     if (allocated(self%pcs)) deallocate(self%pcs)

@@ -23,6 +23,19 @@ rm -rf "$out"; mkdir -p "$out"
 pass=0; fail=0
 ok() { echo "  ok    $1"; pass=$((pass + 1)); }
 ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
+# rollers on the four sides (the base is held in each deck)
+rollers="&boundary
+  set = 'xmin', type = 'displacement', ux = 0.0
+/
+&boundary
+  set = 'xmax', type = 'displacement', ux = 0.0
+/
+&boundary
+  set = 'ymin', type = 'displacement', uy = 0.0
+/
+&boundary
+  set = 'ymax', type = 'displacement', uy = 0.0
+/"
 deck() {  # name, physics, solver, extra groups
   cat > "$out/$1.nml" <<EOD
 &run
@@ -43,18 +56,7 @@ deck() {  # name, physics, solver, extra groups
 &boundary
   set = 'zmin', type = 'displacement', uz = 0.0
 /
-&boundary
-  set = 'xmin', type = 'displacement', ux = 0.0
-/
-&boundary
-  set = 'xmax', type = 'displacement', ux = 0.0
-/
-&boundary
-  set = 'ymin', type = 'displacement', uy = 0.0
-/
-&boundary
-  set = 'ymax', type = 'displacement', uy = 0.0
-/
+$rollers
 &time
   n_steps = 2
 /
@@ -141,18 +143,7 @@ cat > "$out/geertsma.nml" <<EOD
 &pressure_change
   region = 'reservoir', value = -1.0e7
 /
-&boundary
-  set = 'xmin', type = 'displacement', ux = 0.0
-/
-&boundary
-  set = 'xmax', type = 'displacement', ux = 0.0
-/
-&boundary
-  set = 'ymin', type = 'displacement', uy = 0.0
-/
-&boundary
-  set = 'ymax', type = 'displacement', uy = 0.0
-/
+$rollers
 &boundary
   set = 'zmin', type = 'displacement', uz = 0.0
 /
