@@ -12,6 +12,13 @@
 !>             depletion)                                            [required]
 !>   history   file of "time factor" rows (# comments) that multiplies
 !>             value, as history in &boundary                        ['']
+!>   point(3)  restricts the change to the fault block of the region
+!>             that holds this point [m]: the cells of the region that
+!>             faces not on a fault join to the point's cell (a sealed
+!>             compartment: a fault that cuts through the region bounds
+!>             it, one that ends inside it does not). A region takes
+!>             either one group without a point or groups with points in
+!>             different blocks                          [unset: the region]
 module pressure_change_config
   use kinds, only: rp, name_len, msg_len, path_len
   use parallel_comm, only: parallel_comm_t
@@ -30,6 +37,9 @@ module pressure_change_config
     character(len=name_len) :: region = ''
     real(rp) :: value = 0.0_rp                      !< [Pa] at full load
     character(len=path_len) :: history = ''
+    logical :: has_point = .false.                  !< point given: one fault block of the region
+    real(rp) :: point(3) = 0.0_rp                   !< [m] a point of that block
+    integer :: group = 0                            !< its index among the &pressure_change groups
     real(rp), allocatable :: hist_t(:), hist_f(:)   !< the history, once loaded
   contains
     procedure :: describe => describe_pressure_change
@@ -46,16 +56,17 @@ contains
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: region
     character(len=path_len) :: history
-    real(rp) :: value
+    real(rp) :: value, point(3)
     integer :: k, j, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    namelist /pressure_change/ region, value, history
+    namelist /pressure_change/ region, value, history, point
     allocate(pcs(d%count('pressure_change')))
     do k = 1, size(pcs)
       region = ''
       value = unset_real
       history = ''
+      point = unset_real
       call d%block('pressure_change', k, b)
       read(b, nml=pressure_change, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -64,11 +75,22 @@ contains
       end if
       if (len_trim(region) == 0) call d%fail(status, 'pressure_change', k, 'region', 'required')
       if (value == unset_real) call d%fail(status, 'pressure_change', k, 'value', 'required')
+      if (any(point == unset_real) .and. any(point /= unset_real)) &
+        call d%fail(status, 'pressure_change', k, 'point', 'needs its three coordinates')
+      pcs(k)%has_point = all(point /= unset_real)
+      ! a region: one group for all of it, or groups for some of its blocks
       do j = 1, k - 1
-        if (pcs(j)%region == region) call d%fail(status, 'pressure_change', k, 'region', &
-          "region '"//trim(region)//"' already has a &pressure_change")
+        if (pcs(j)%region /= region) cycle
+        if (.not. (pcs(k)%has_point .and. pcs(j)%has_point)) then
+          call d%fail(status, 'pressure_change', k, 'region', "region '"//trim(region)// &
+            "' already has a &pressure_change (several groups on one region need a point each, in different"// &
+            " fault blocks)")
+          exit
+        end if
       end do
       if (.not. status%ok()) return
+      pcs(k)%group = k
+      if (pcs(k)%has_point) pcs(k)%point = point
       pcs(k)%region = region
       pcs(k)%value = value
       call d%input_path('pressure_change', k, 'history', history, pcs(k)%history, status)
@@ -110,5 +132,10 @@ contains
     call g%add('region', self%region, '-', 'mesh region')
     call g%add('value', self%value, 'Pa', 'change of pore pressure at full load (negative: depletion)')
     call g%add('history', absolute_path(self%history), '-', "file of 'time factor' rows scaling value ('': none)")
+    if (self%has_point) then
+      call g%add('point', self%point, 'm', 'a point of the fault block of the region that changes')
+    else
+      call g%add_unset('point', '(none: all of the region)', 'm', 'a point of the fault block of the region that changes')
+    end if
   end subroutine describe_pressure_change
 end module pressure_change_config

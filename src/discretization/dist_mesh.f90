@@ -25,7 +25,7 @@ module dist_mesh
   use index_map, only: index_map_t
   use mesh, only: mesh_t
   use quadrature, only: gauss_hex
-  use hex_q1, only: hex_gradients
+  use hex_q1, only: hex_gradients, hex_contains_point
   implicit none
   private
 
@@ -40,6 +40,11 @@ module dist_mesh
     integer(ip), allocatable :: cell_nodes(:,:)     !< (8, n_cells) local node ids
     integer(ip), allocatable :: cell_region(:)      !< (n_cells)
     integer(ip), allocatable :: cell_owner(:)       !< (n_cells) owning rank
+    !> (n_cells) the fault block of each cell: the cells of one region that
+    !> faces not on a fault connect (a fault that cuts through the region
+    !> seals it off; one that ends inside it does not) share a block, named
+    !> by their smallest original cell id (partition-independent)
+    integer(gp), allocatable :: cell_block(:)
     !> ids of the local nodes, cells and faces in the global mesh before the
     !> partition renumbered them: partition-independent ordering keys
     integer(gp), allocatable :: node_orig(:), cell_orig(:), face_orig(:)
@@ -69,6 +74,7 @@ module dist_mesh
     procedure :: region_id
     procedure :: region_list
     procedure :: cell_volume
+    procedure :: locate_point
     procedure :: node_keys
     procedure :: iface_keys
     procedure :: free
@@ -109,6 +115,7 @@ contains
     call local_interfaces(self, comm, gmesh, own, lcells, lnodes)
     self%cell_region = gmesh%cell_region(lcells)
     self%cell_owner = part(lcells)
+    self%cell_block = fault_blocks(gmesh, lcells)
     allocate(self%node_orig(self%n_nodes), self%cell_orig(self%n_cells), self%face_orig(self%n_faces))
     self%node_orig = int(lnodes, gp)
     self%cell_orig = int(lcells, gp)
@@ -322,6 +329,47 @@ contains
     end if
   end subroutine local_interfaces
 
+  !> The fault block (dist_mesh_t%cell_block) of each of the global mesh's
+  !> cells lcells: components of the graph of the cells, two cells of one
+  !> region joined by each face they share (faces on a fault are two
+  !> boundary faces, so they join nothing), found by union-find.
+  function fault_blocks(gmesh, lcells) result(blk)
+    type(mesh_t), intent(in) :: gmesh
+    integer(ip), intent(in) :: lcells(:)
+    integer(gp), allocatable :: blk(:)
+    integer(ip), allocatable :: root(:)
+    integer(ip) :: f, a, b, i
+    allocate(root(gmesh%n_cells))
+    root = [(i, i = 1, gmesh%n_cells)]
+    do f = 1, gmesh%n_faces
+      if (gmesh%face_cells(2, f) == 0) cycle
+      if (gmesh%cell_region(gmesh%face_cells(1, f)) /= gmesh%cell_region(gmesh%face_cells(2, f))) cycle
+      a = find(gmesh%face_cells(1, f))
+      b = find(gmesh%face_cells(2, f))
+      ! the smaller id is the root: a block is named by its smallest cell
+      if (a < b) then
+        root(b) = a
+      else if (b < a) then
+        root(a) = b
+      end if
+    end do
+    allocate(blk(size(lcells)))
+    do i = 1, size(lcells, kind=ip)
+      blk(i) = int(find(lcells(i)), gp)
+    end do
+  contains
+    integer(ip) function find(c)
+      integer(ip), intent(in) :: c
+      integer(ip) :: x
+      x = c
+      do while (root(x) /= x)
+        root(x) = root(root(x))      ! path halving
+        x = root(x)
+      end do
+      find = x
+    end function find
+  end function fault_blocks
+
   !> Contiguous global numbering by owner: owner ranks in order, and the
   !> original order within each rank. Returns 1-based global ids.
   function renumber(owner, np) result(gid)
@@ -520,6 +568,39 @@ contains
     end do
   end function region_id
 
+  !> The owned cell that holds point p: of several cells holding it (a
+  !> point on a face, edge or node), the first in the original numbering,
+  !> so that the choice does not depend on the partition. cell is that
+  !> cell's local id on the rank that owns it and 0 on the others, xi its
+  !> reference coordinates of p there (0 elsewhere); found (on every rank):
+  !> whether some cell holds p. Collective.
+  subroutine locate_point(self, p, cell, xi, found)
+    class(dist_mesh_t), intent(in) :: self
+    real(rp), intent(in) :: p(3)
+    integer(ip), intent(out) :: cell
+    real(rp), intent(out) :: xi(3)
+    logical, intent(out) :: found
+    integer(ip) :: c
+    integer(gp) :: best, key
+    real(rp) :: xc(3)
+    best = huge(1_gp)
+    cell = 0
+    xi = 0.0_rp
+    do c = 1, self%cell_map%n_owned
+      if (self%cell_orig(c) >= best) cycle
+      if (.not. hex_contains_point(self%coords(:, self%cell_nodes(:, c)), p, xc)) cycle
+      best = self%cell_orig(c)
+      cell = c
+      xi = xc
+    end do
+    key = -self%comm%max(-best)
+    found = key /= huge(1_gp)
+    if (key /= best) then
+      cell = 0
+      xi = 0.0_rp
+    end if
+  end subroutine locate_point
+
   !> Volume of local cell c [m^3] (2x2x2 Gauss, exact for trilinear maps).
   real(rp) function cell_volume(self, c)
     class(dist_mesh_t), intent(in) :: self
@@ -543,6 +624,7 @@ contains
     if (allocated(self%coords)) deallocate(self%coords)
     if (allocated(self%cell_nodes)) deallocate(self%cell_nodes)
     if (allocated(self%cell_region)) deallocate(self%cell_region)
+    if (allocated(self%cell_block)) deallocate(self%cell_block)
     if (allocated(self%cell_owner)) deallocate(self%cell_owner)
     if (allocated(self%cell_faces)) deallocate(self%cell_faces)
     if (allocated(self%cell_face_sign)) deallocate(self%cell_face_sign)

@@ -5,7 +5,8 @@ module hex_q1
   implicit none
   private
 
-  public :: hex_shape, hex_gradients, hex_jacobian_det, quad_shape, quad_area_vector, inverse3, hex_face_bubble
+  public :: hex_shape, hex_gradients, hex_jacobian_det, quad_shape, quad_area_vector, inverse3, hex_face_bubble, &
+            hex_contains_point
 
   !> Reference coordinates of the 8 nodes.
   real(rp), parameter :: s(3, 8) = reshape([ &
@@ -120,4 +121,29 @@ contains
     b = matmul(x, dn(2, :))
     v = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
   end function quad_area_vector
+
+  !> Whether the hexahedron with nodes x(3, 8) contains p (up to a relative
+  !> 1e-9 of its size); xi: the reference coordinates of p (Newton's method
+  !> on the trilinear map).
+  logical function hex_contains_point(x, p, xi)
+    real(rp), intent(in) :: x(3, 8), p(3)
+    real(rp), intent(out) :: xi(3)
+    real(rp) :: n(8), dn(3, 8), jac(3, 3), jinv(3, 3), det, r(3), h
+    integer :: it
+    xi = 0.0_rp
+    hex_contains_point = .false.
+    h = maxval(maxval(x, dim=2) - minval(x, dim=2))
+    if (any(p < minval(x, dim=2) - 1.0e-9_rp * h) .or. any(p > maxval(x, dim=2) + 1.0e-9_rp * h)) return
+    do it = 1, 30
+      call hex_shape(xi, n, dn)
+      r = p - matmul(x, n)
+      jac = matmul(x, transpose(dn))             ! jac(i, j) = d x_i / d xi_j
+      call inverse3(jac, jinv, det)
+      if (det == 0.0_rp) return
+      xi = xi + matmul(jinv, r)
+      if (maxval(abs(xi)) > 4.0_rp) return
+      if (maxval(abs(matmul(jinv, r))) < 1.0e-14_rp) exit
+    end do
+    hex_contains_point = maxval(abs(xi)) <= 1.0_rp + 1.0e-9_rp
+  end function hex_contains_point
 end module hex_q1

@@ -15,14 +15,14 @@
 !> the checkpoint's step and goes on, as residual_history does. Collective
 !> unless said otherwise.
 module probe_output
-  use kinds, only: rp, ip, gp, path_len, name_len
+  use kinds, only: rp, ip, path_len, name_len
   use error_status, only: error_status_t
   use strings, only: itoa, rtoa
   use os_services, only: rename_path, make_directory
   use deck, only: deck_t
   use probe_config, only: probe_config_t, probe_quantities, probe_unit
   use dist_mesh, only: dist_mesh_t
-  use hex_q1, only: hex_shape, inverse3
+  use hex_q1, only: hex_shape
   use probe_fields, only: probe_fields_t
   implicit none
   private
@@ -103,58 +103,18 @@ contains
     type(deck_t), intent(in) :: d
     type(error_status_t), intent(inout) :: status
     integer :: i
-    integer(ip) :: cell
-    integer(gp) :: key, best
-    real(rp) :: xi(3), xi_best(3)
+    logical :: found
     allocate(site%cell(size(c%points, 2)), site%xi(3, size(c%points, 2)))
-    site%cell = 0
-    site%xi = 0.0_rp
     do i = 1, size(c%points, 2)
-      best = huge(1_gp)
-      xi_best = 0.0_rp
-      do cell = 1, mesh%cell_map%n_owned
-        if (mesh%cell_orig(cell) >= best) cycle
-        if (.not. contains_point(mesh%coords(:, mesh%cell_nodes(:, cell)), c%points(:, i), xi)) cycle
-        best = mesh%cell_orig(cell)
-        site%cell(i) = cell
-        xi_best = xi
-      end do
-      key = -mesh%comm%max(-best)
-      if (key == huge(1_gp)) then
+      call mesh%locate_point(c%points(:, i), site%cell(i), site%xi(:, i), found)
+      if (.not. found) then
         call d%fail(status, 'probe', c%group, 'x', "probe '"//trim(c%name)//"': point "//itoa(i)//' ('// &
           trim(rtoa(c%points(1, i)))//', '//trim(rtoa(c%points(2, i)))//', '//trim(rtoa(c%points(3, i)))// &
           ') lies outside the mesh')
         return
       end if
-      if (key /= best) site%cell(i) = 0
-      site%xi(:, i) = xi_best
     end do
   end subroutine locate
-
-  !> Whether the hexahedron with nodes x(3, 8) contains p (up to a relative
-  !> 1e-9 of its size); xi: the reference coordinates of p (Newton's method
-  !> on the trilinear map).
-  logical function contains_point(x, p, xi)
-    real(rp), intent(in) :: x(3, 8), p(3)
-    real(rp), intent(out) :: xi(3)
-    real(rp) :: n(8), dn(3, 8), jac(3, 3), jinv(3, 3), det, r(3), h
-    integer :: it
-    xi = 0.0_rp
-    contains_point = .false.
-    h = maxval(maxval(x, dim=2) - minval(x, dim=2))
-    if (any(p < minval(x, dim=2) - 1.0e-9_rp * h) .or. any(p > maxval(x, dim=2) + 1.0e-9_rp * h)) return
-    do it = 1, 30
-      call hex_shape(xi, n, dn)
-      r = p - matmul(x, n)
-      jac = matmul(x, transpose(dn))             ! jac(i, j) = d x_i / d xi_j
-      call inverse3(jac, jinv, det)
-      if (det == 0.0_rp) return
-      xi = xi + matmul(jinv, r)
-      if (maxval(abs(xi)) > 4.0_rp) return
-      if (maxval(abs(matmul(jinv, r))) < 1.0e-14_rp) exit
-    end do
-    contains_point = maxval(abs(xi)) <= 1.0_rp + 1.0e-9_rp
-  end function contains_point
 
   !> One row: step `step` accepted at time t with the physics' fields pf.
   !> The file is opened (header, kept rows of a restart) at the first row.

@@ -615,6 +615,8 @@ contains
     call out%write_displacement(self%mesh, self%phys%u - self%u_geo, status)
     if (status%ok()) call out%writer%cell_field('stress', stress, status)
     call out%write_mesh_ids(self%mesh, status)
+    if (status%ok() .and. size(self%phys%mech%pcs) > 0) &
+      call out%writer%cell_field('pressure_change', self%phys%mech%pressure_change_field(self%mesh, self%lf), status)
     ! the output's status codes count from 0 (state_stick = 1, slip 2, open 3)
     if (status%ok()) call self%fout%write_step(out, self%mesh, self%phys%trac, self%phys%jump - self%jump_geo, &
                                                 self%phys%state - 1, &

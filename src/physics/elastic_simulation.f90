@@ -235,6 +235,8 @@ contains
     call out%write_displacement(self%mesh, self%u_loc - self%u_geo, status)
     if (status%ok()) call out%writer%cell_field('stress', stress, status)
     call out%write_mesh_ids(self%mesh, status)
+    if (status%ok() .and. size(self%mech%pcs) > 0) &
+      call out%writer%cell_field('pressure_change', self%mech%pressure_change_field(self%mesh, self%t), status)
   end subroutine write_output
 
   !> Displacement and stress for the probes.

@@ -37,7 +37,7 @@ module elasticity
   use geostatic_config, only: geostatic_config_t
   use pressure_change_config, only: pressure_change_config_t
   use face_box, only: box_tolerance, face_in_box, count_set_faces_in_box, box_text
-  use strings, only: itoa
+  use strings, only: itoa, rtoa
   implicit none
   private
 
@@ -62,9 +62,9 @@ module elasticity
     real(rp), allocatable :: geo_load(:)     !< (local dofs, before export_add) the in-situ load: it does not change
     real(rp) :: box_tol(3) = 0.0_rp          !< tolerance of the conditions' boxes [m] (face_box)
     type(pressure_change_config_t), allocatable :: pcs(:)   !< &pressure_change groups
-    integer(ip), allocatable :: dp_group(:)  !< per region: its &pressure_change, 0: none
+    integer(ip), allocatable :: dp_cell(:)   !< per local cell: its &pressure_change group, 0: none
     real(rp), allocatable :: dp_biot(:)      !< per region: Biot coefficient of its rock
-    real(rp), allocatable :: dp_now(:)       !< per region: pore pressure change at the current time, at full load [Pa]
+    real(rp), allocatable :: dp_now(:)       !< per group: pore pressure change at the current time, at full load [Pa]
     logical :: enriched = .false.            !< the fault cells carry face bubbles
     type(face_bubbles_t) :: bub              !< the bubbles (enriched)
   contains
@@ -72,6 +72,7 @@ module elasticity
     procedure :: init_in_situ
     procedure :: init_pressure_changes
     procedure :: pressure_change_at
+    procedure :: pressure_change_field
     procedure :: in_situ_imbalance
     procedure :: assemble
     procedure :: assemble_into
@@ -114,10 +115,9 @@ contains
     n = size(mesh%region_names, kind=ip)
     allocate(self%lambda(n), self%mu(n), self%body(3, n))
     ! no pore pressure change until init_pressure_changes says where
-    allocate(self%dp_group(n), self%dp_biot(n), self%dp_now(n), self%pcs(0))
-    self%dp_group = 0
+    allocate(self%dp_cell(mesh%n_cells), self%dp_biot(n), self%dp_now(0), self%pcs(0))
+    self%dp_cell = 0
     self%dp_biot = 1.0_rp
-    self%dp_now = 0.0_rp
     do r = 1, n
       m = 0
       do i = 1, size(mats, kind=ip)
@@ -299,10 +299,8 @@ contains
     do b = 1, size(self%bcs)
       self%bc_factor(b) = self%bcs(b)%factor(t)
     end do
-    do b = 1, size(self%dp_group)
-      self%dp_now(b) = 0.0_rp
-      if (self%dp_group(b) > 0) self%dp_now(b) = self%pcs(self%dp_group(b))%value * &
-                                                 self%pcs(self%dp_group(b))%factor(t)
+    do b = 1, size(self%pcs)
+      self%dp_now(b) = self%pcs(b)%value * self%pcs(b)%factor(t)
     end do
   end subroutine set_time
 
@@ -460,7 +458,7 @@ contains
     class(vector_function_t), intent(in), optional :: body, dirichlet
     logical, intent(in), optional :: rhs_only
     real(rp), allocatable :: f_loc(:)
-    real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, ke(42, 42), fe(42), ue(42), xq(3), bf(3)
+    real(rp) :: x(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, ke(42, 42), fe(42), ue(42), xq(3), bf(3), dp
     real(rp) :: xiq(2, 4), wq(4), nq(4), dnq(2, 4), xf(3, 4), da, av(3)
     integer(ip) :: c, q, a, i, j, dofs(42), r, t, f, nown, nd
     type(parallel_comm_t) :: comm
@@ -478,7 +476,8 @@ contains
       r = mesh%cell_region(c)
       call self%cell_dofs(mesh, c, dofs, nd)
       bubbles = nd > 24
-      loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp) .or. self%dp_now(r) /= 0.0_rp
+      dp = self%pressure_change_at(mesh, c)
+      loaded = present(body) .or. any(self%body(:, r) /= 0.0_rp) .or. dp /= 0.0_rp
       ! known values of the prescribed dofs (nodes only: bubbles are free);
       ! only nonzero ones lift the right-hand side
       lifted = .false.
@@ -508,7 +507,7 @@ contains
             end if
             do a = 1, 8
               ! the pore pressure change: b dp div(eta)
-              fe(3*a-2:3*a) = fe(3*a-2:3*a) + n(a) * bf * det + self%dp_biot(r) * self%dp_now(r) * g(:, a) * det
+              fe(3*a-2:3*a) = fe(3*a-2:3*a) + n(a) * bf * det + self%dp_biot(r) * dp * g(:, a) * det
             end do
           end do
         end if
@@ -647,25 +646,54 @@ contains
   end subroutine init_in_situ
 
   !> The &pressure_change groups pcs on mesh, with the Biot coefficients of
-  !> the regions' materials; status names a group whose region the mesh
-  !> does not have. Call after init (every physics calls it: without
-  !> groups, no change anywhere).
+  !> the regions' materials: which group each local cell takes (a group
+  !> with a point: the cells of its region in the point's fault block).
+  !> status names a group whose region the mesh does not have, whose point
+  !> lies outside the mesh or in another region, or two groups in one
+  !> block. Call after init (every physics calls it: without groups, no
+  !> change anywhere). Collective.
   subroutine init_pressure_changes(self, mesh, pcs, mats, status)
     class(elasticity_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     type(pressure_change_config_t), intent(in) :: pcs(:)
     type(material_config_t), intent(in) :: mats(:)
     type(error_status_t), intent(inout) :: status
-    integer(ip) :: r, k, n
+    integer(ip) :: r, k, j, n, c, rpt
+    integer(gp), allocatable :: blk(:)
+    character(len=:), allocatable :: where
     n = size(mesh%region_names, kind=ip)
     self%pcs = pcs
+    self%dp_now = [(0.0_rp, k = 1, size(pcs))]
+    allocate(blk(size(pcs)))
+    blk = 0
     do k = 1, size(pcs, kind=ip)
+      where = "&pressure_change "//itoa(pcs(k)%group)//" (region '"//trim(pcs(k)%region)//"')"
       r = mesh%region_id(pcs(k)%region)
       if (r == 0) then
-        call status%set("&pressure_change on region '"//trim(pcs(k)%region)//"', which the mesh does not have")
+        call status%set("&pressure_change on region '"//trim(pcs(k)%region)//"', which the mesh does not have "// &
+                        "(its regions: "//mesh%region_list()//")")
         return
       end if
-      self%dp_group(r) = k
+      if (pcs(k)%has_point) then
+        call point_block(mesh, pcs(k)%point, blk(k), rpt, status, where)
+        if (.not. status%ok()) return
+        if (rpt /= r) then
+          call status%set(where//": its point lies in region '"//trim(mesh%region_names(rpt))//"'")
+          return
+        end if
+        do j = 1, k - 1
+          if (blk(j) == blk(k) .and. pcs(j)%region == pcs(k)%region) then
+            call status%set(where//": its point lies in the fault block of &pressure_change "// &
+                            itoa(pcs(j)%group)//"'s point")
+            return
+          end if
+        end do
+      end if
+      do c = 1, mesh%n_cells
+        if (mesh%cell_region(c) /= r) cycle
+        if (pcs(k)%has_point .and. mesh%cell_block(c) /= blk(k)) cycle
+        self%dp_cell(c) = k
+      end do
     end do
     do r = 1, n
       do k = 1, size(mats, kind=ip)
@@ -674,6 +702,35 @@ contains
     end do
   end subroutine init_pressure_changes
 
+  !> The fault block blk and region reg of the cell that holds point p
+  !> (the same on every rank); status: the point lies outside the mesh.
+  !> Collective.
+  subroutine point_block(mesh, p, blk, reg, status, where)
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: p(3)
+    integer(gp), intent(out) :: blk
+    integer(ip), intent(out) :: reg
+    type(error_status_t), intent(inout) :: status
+    character(len=*), intent(in) :: where
+    integer(ip) :: c
+    real(rp) :: xi(3)
+    logical :: found
+    call mesh%locate_point(p, c, xi, found)
+    blk = 0
+    reg = 0
+    if (.not. found) then
+      call status%set(where//": its point ("//trim(rtoa(p(1)))//', '//trim(rtoa(p(2)))//', '// &
+                      trim(rtoa(p(3)))//') lies outside the mesh')
+      return
+    end if
+    if (c > 0) then
+      blk = mesh%cell_block(c)
+      reg = mesh%cell_region(c)
+    end if
+    blk = mesh%comm%max(blk)
+    reg = mesh%comm%max(reg)
+  end subroutine point_block
+
   !> The pore pressure change at full load of local cell c [Pa] (0 outside
   !> the &pressure_change regions).
   real(rp) function pressure_change_at(self, mesh, c) result(dp)
@@ -681,8 +738,23 @@ contains
     type(dist_mesh_t), intent(in) :: mesh
     integer(ip), intent(in) :: c
     dp = 0.0_rp
-    if (c >= 1 .and. c <= mesh%n_cells) dp = self%dp_now(mesh%cell_region(c))
+    if (c < 1 .or. c > mesh%n_cells) return
+    if (self%dp_cell(c) > 0) dp = self%dp_now(self%dp_cell(c))
   end function pressure_change_at
+
+  !> The pore pressure change of every owned cell at load factor lf [Pa]
+  !> (the output field 'pressure_change' of elasticity and contact).
+  function pressure_change_field(self, mesh, lf) result(v)
+    class(elasticity_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: lf
+    real(rp), allocatable :: v(:)
+    integer(ip) :: c
+    allocate(v(mesh%cell_map%n_owned))
+    do c = 1, mesh%cell_map%n_owned
+      v(c) = lf * self%pressure_change_at(mesh, c)
+    end do
+  end function pressure_change_field
 
   !> fe(24) += the in-situ load of owned cell c: its weight less the work of
   !> the in-situ total stress, integral of N rho g - B^T sigma_0 (not scaled
@@ -866,7 +938,7 @@ contains
     class(elasticity_t), intent(inout) :: self
     if (allocated(self%geo_load)) deallocate(self%geo_load)
     self%geo = geostatic_t()
-    if (allocated(self%dp_group)) deallocate(self%dp_group, self%dp_biot, self%dp_now)
+    if (allocated(self%dp_cell)) deallocate(self%dp_cell, self%dp_biot, self%dp_now)
     if (allocated(self%pcs)) deallocate(self%pcs)
     call self%k%free()
     call self%u%free()
