@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The High Island 24L stand-in (issue 16; the seed's contact case with 32
 # faults): input/hi24l.nml (a geostatic start, step 0 with the faults
-# bonded, a 30 MPa depletion of the reservoir sands in four load steps) on
+# bonded, a 30 MPa depletion of the reservoir sands of the compartment
+# between f02 and f06 in four load steps) on
 # the meshes of meshes/hi24l.geo at the given refine factors (1: the full
 # size, n_u 2,537,910, n_t 191,940; 0.5: medium; 0.1: small), FGMRES with the
 # reordered contact preconditioner, 2 ranks by default.
@@ -9,7 +10,8 @@
 # count of every Newton iteration, set-up and solve seconds; per run the wall
 # time and the peak memory (the log's timing summary and /usr/bin/time);
 # then postproc/plot_faults.py draws the faults by status and by slip at the
-# last step (build/bench/hi24l/<name>_status.png, _slip.png).
+# last step (build/bench/hi24l/<name>_status.png, _slip.png) and by status
+# in the reservoir interval (_reservoir.png).
 # Needs gmsh (installed with apt-get when missing) and numpy.
 # Usage: bench/run_bench_hi24l.sh [refine factors] [ranks] [LIMIT seconds per run]
 # Writes build/bench/hi24l.md.
@@ -75,6 +77,10 @@ for r in $refines; do
       > "$out/${name}_faults.txt" 2>&1
     $PY postproc/plot_faults.py "$out/$name/$name" --field slip_magnitude -o "$out/${name}_slip.png" --elev 35 \
       --azim -65 >> "$out/${name}_faults.txt" 2>&1
+    # the reservoir interval (caprock to the underburden's top), drawn 6x
+    # taller: where the depleted compartment's faults slip
+    $PY postproc/plot_faults.py "$out/$name/$name" --z-range=-1500,-1900 --z-scale 6 --elev 35 --azim -70 \
+      -o "$out/${name}_reservoir.png" >> "$out/${name}_faults.txt" 2>&1
   fi
 done
 echo "$summary" >> "$table"

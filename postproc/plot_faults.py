@@ -52,9 +52,12 @@ def main():
     ap.add_argument("--step", type=int, default=-1, help="output step (default: the last)")
     ap.add_argument("--field", default="status")
     ap.add_argument("--fault", default="", help="comma-separated fault names to draw (default: all)")
-    ap.add_argument("--z-scale", type=float, default=1.0)
-    ap.add_argument("--elev", type=float, default=30.0)
-    ap.add_argument("--azim", type=float, default=-60.0)
+    ap.add_argument("--z-range", default="",
+                    help="ZMIN,ZMAX [m]: draw only the elements whose centre lies in this depth window "
+                         "(e.g. a reservoir interval; default: all)")
+    ap.add_argument("--z-scale", type=float, default=1.0, help="vertical exaggeration of the drawing")
+    ap.add_argument("--elev", type=float, default=30.0, help="view elevation [degrees]")
+    ap.add_argument("--azim", type=float, default=-60.0, help="view azimuth [degrees]")
     ap.add_argument("-o", "--output", default="")
     a = ap.parse_args()
     run = Run(os.path.dirname(a.run) or ".", os.path.basename(a.run))
@@ -74,6 +77,15 @@ def main():
     if a.fault:
         wanted = [names.index(n) + 1 for n in a.fault.split(",") if n in names]
         keep = np.isin(fault, wanted)
+    if a.z_range:
+        try:
+            zmin, zmax = sorted(float(v) for v in a.z_range.split(","))
+        except ValueError:
+            raise ValueError(f"--z-range '{a.z_range}': expected ZMIN,ZMAX in metres") from None
+        zc = xyz[quads][:, :, 2].mean(axis=1)
+        keep &= (zc >= zmin) & (zc <= zmax)
+        if not keep.any():
+            raise ValueError(f"--z-range {a.z_range}: no fault element has its centre in it")
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -100,7 +112,11 @@ def main():
     ax.set_box_aspect(hi - lo)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_zlabel("z [m]" + (f" x {a.z_scale:g}" if a.z_scale != 1.0 else ""))
+    ax.set_zlabel("z [m]" + (f" (drawn x {a.z_scale:g})" if a.z_scale != 1.0 else ""))
+    if a.z_scale != 1.0:
+        # the ticks name true depths
+        from matplotlib.ticker import FuncFormatter
+        ax.zaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v / a.z_scale:g}"))
     ax.view_init(elev=a.elev, azim=a.azim)
     t = run.times()[a.step]
     ax.set_title(f"{run.prefix}: faults, {a.field}, load {t:g}")

@@ -58,6 +58,18 @@ for np in 1 2; do
     ko "depleted compartment, $np rank(s): $r"
   fi
 done
+# the reservoir-interval picture of make bench (plot_faults.py --z-range)
+if r=$($PY postproc/plot_faults.py "$base/np1/hi24l_small" --z-range=-1500,-1900 --z-scale 6 \
+       -o "$base/reservoir.png" 2>&1) && [ -s "$base/reservoir.png" ] && grep -q '^figure: ' <<< "$r"; then
+  ok "plot_faults.py --z-range: $base/reservoir.png"
+else
+  ko "plot_faults.py --z-range: $(tail -1 <<< "$r")"
+fi
+if r=$($PY postproc/plot_faults.py "$base/np1/hi24l_small" --z-range=-5000,-4500 -o "$base/none.png" 2>&1); then
+  ko "plot_faults.py with a depth window holding no element: exit 0"
+else
+  ok "plot_faults.py with a depth window holding no element: $(tail -1 <<< "$r")"
+fi
 if out=$($PY tests/invariance/compare_runs.py "$base/np1" "$base/np2" hi24l_small 1e-7 stress 2>&1); then
   ok "1 vs 2 ranks: $(echo "$out" | tr '\n' ';')"
 else
