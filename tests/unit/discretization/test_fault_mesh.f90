@@ -525,19 +525,22 @@ contains
     call suite%assert_equal_int(gfull%n_ifaces, 24 + 12, 'distributed: 36 interface elements')
     call suite%assert_equal_int(iface_violations(gfull), 0, 'distributed: global interface elements consistent')
     call box_with_faults(groot, [6_ip, 6_ip, 4_ip], one3, f, st, ns)
-    call check_distributed('box', gfull, groot)
+    call check_distributed('box', gfull, groot, 2_ip)
     call read_gmsh('meshes/fault_tip.msh', gfull, st)
     if (st%ok()) call split_faults(gfull, ['fault'], st)
     groot = gfull
     call suite%assert_true(st%ok(), 'distributed: gmsh mesh read and split')
-    call check_distributed('gmsh', gfull, groot)
+    call check_distributed('gmsh', gfull, groot, 1_ip)
   end subroutine test_distributed
 
-  !> Distribute groot (consumed) and check the interface elements against gfull.
-  subroutine check_distributed(what, gfull, groot)
+  !> Distribute groot (consumed) and check the interface elements against
+  !> gfull, and the fault blocks: n_blocks of them (one region), each named
+  !> by its smallest cell.
+  subroutine check_distributed(what, gfull, groot, n_blocks)
     character(len=*), intent(in) :: what
     type(mesh_t), intent(in) :: gfull
     type(mesh_t), intent(inout) :: groot
+    integer(ip), intent(in) :: n_blocks
     type(dist_mesh_t) :: dm
     type(error_status_t) :: st
     integer(ip), allocatable :: part(:), iface_l(:), cell_l(:), node_l(:), hits(:)
@@ -627,8 +630,54 @@ contains
     ok = size(dm%fault_names) == size(gfull%fault_names)
     if (ok) ok = all(dm%fault_names == gfull%fault_names)
     call suite%assert_true(ok, what//' distributed: fault names')
+    call check_blocks(what, gfull, dm, n_blocks)
     call dm%free()
   end subroutine check_distributed
+
+  !> The fault blocks of dm (one region): the owned cells' blocks gathered
+  !> by original id; n_blocks distinct ones, each named by its smallest
+  !> cell; ghosts carry their owner's block; with the box's dipping fault
+  !> (what = 'box'), the cells with x < 0.3 form one block and those with
+  !> x > 0.7 the other (the fracture, which ends inside, seals nothing).
+  subroutine check_blocks(what, gfull, dm, n_blocks)
+    character(len=*), intent(in) :: what
+    type(mesh_t), intent(in) :: gfull
+    type(dist_mesh_t), intent(in) :: dm
+    integer(ip), intent(in) :: n_blocks
+    integer(ip), allocatable :: blk(:)
+    integer(ip) :: i, c, bad
+    real(rp) :: xc
+    allocate(blk(gfull%n_cells))
+    blk = 0
+    do i = 1, dm%cell_map%n_owned
+      blk(dm%cell_orig(i)) = int(dm%cell_block(i), ip)
+    end do
+    call comm%sum_all(blk)
+    bad = 0
+    do i = dm%cell_map%n_owned + 1, dm%n_cells
+      if (int(dm%cell_block(i), ip) /= blk(dm%cell_orig(i))) bad = bad + 1
+    end do
+    call suite%assert_equal_int(comm%sum(bad), 0, what//' fault blocks: ghost cells carry their owner''s block')
+    bad = 0
+    do c = 1, gfull%n_cells
+      if (blk(c) < 1 .or. blk(c) > c) then
+        bad = bad + 1
+      else if (blk(blk(c)) /= blk(c)) then
+        bad = bad + 1
+      end if
+    end do
+    call suite%assert_equal_int(bad, 0, what//' fault blocks: each named by its smallest cell')
+    call suite%assert_equal_int(int(count([(blk(c) == c, c = 1, gfull%n_cells)]), ip), n_blocks, &
+                                what//' fault blocks: '//itoa(n_blocks)//' of them')
+    if (what /= 'box') return
+    bad = 0
+    do c = 1, gfull%n_cells
+      xc = sum(gfull%coords(1, gfull%cell_nodes(:, c))) / 8.0_rp
+      if (xc < 0.3_rp .and. blk(c) /= 1) bad = bad + 1
+      if (xc > 0.7_rp .and. blk(c) == 1) bad = bad + 1
+    end do
+    call suite%assert_equal_int(bad, 0, what//' fault blocks: the dipping fault parts x < 0.3 from x > 0.7')
+  end subroutine check_blocks
 
   !> Number of distinct node ids of interface element e1 that e2 also uses.
   integer function shared_nodes(g, e1, e2)
