@@ -25,14 +25,17 @@
 # BoomerAMG (&amg agg_num_levels = 0, num_sweeps = 2; the elastic reference
 # then uses it too), to separate the AMG's own growth from the contact's;
 # reordered_inner_cg solves S* by CG + BoomerAMG to 1e-10 (schur_solve =
-# 'inner_cg'), which shows the growth of the Schur approximation alone.
+# 'inner_cg'), which shows the growth of the Schur approximation alone;
+# bubble_augmented_strong_amg and _inner_cg do the same for the augmented
+# preconditioner on the bubble space.
 # Usage: bench/run_bench_contact.sh [levels] [ranks] [precons] [mixes] [mumps levels]
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 levels=${1:-"8 16 24 32 40"}
 np=${2:-2}
-precons=${3:-"reordered reordered_strong_amg reordered_inner_cg classical augmented"}
+precons=${3:-"reordered reordered_strong_amg reordered_inner_cg classical augmented bubble_augmented \
+bubble_augmented_strong_amg bubble_augmented_inner_cg"}
 mixes=${4:-"stick slip open"}
 mumps_levels=${5:-"8 16 24 32 40"}
 out=build/bench
@@ -53,6 +56,12 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
     mumps)     solver="method = 'mumps', mumps_layout = 'distributed'"; contact="" ;;
     augmented) solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="block = 'augmented', stabilization = 'none', max_cuts = 0" ;;
+    bubble_augmented_inner_cg)
+               solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
+               contact="space = 'bubble', block = 'augmented', max_cuts = 0, schur_solve = 'inner_cg'" ;;
+    bubble_augmented_strong_amg)
+               solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
+               contact="space = 'bubble', block = 'augmented', max_cuts = 0" ;;
     bubble_augmented*)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="space = 'bubble', block = 'augmented', max_cuts = 0, aug_scale = ${s#bubble_augmented_}"
@@ -73,7 +82,7 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
       -e "s#dir = 'out'#dir = '$out/$name'#" \
       tests/decks/contact_block.nml > "$out/$name.nml"
   [ -n "$contact" ] && printf "&contact\n  %s\n/\n" "$contact" >> "$out/$name.nml"
-  [ "$s" = reordered_strong_amg ] && printf "&amg\n  agg_num_levels = 0, num_sweeps = 2\n/\n" >> "$out/$name.nml"
+  case $s in *_strong_amg) printf "&amg\n  agg_num_levels = 0, num_sweeps = 2\n/\n" >> "$out/$name.nml" ;; esac
   mpirun -np "$np" bin/geoblock "$out/$name.nml" > "$out/$name.log" 2>&1 < /dev/null
 }
 
@@ -132,7 +141,7 @@ for mix in $mixes; do
   done
 done
 for s in $precons; do
-  case $s in reordered|reordered_strong_amg) ;; *) continue ;; esac
+  case $s in reordered|reordered_strong_amg|bubble_augmented) ;; *) continue ;; esac
   row=""
   for n in $levels; do row="$row ${max_its[elastic,$s,$n]:--}"; done
   g=$(awk -v a="${max_its[elastic,$s,${levels##* }]:-0}" -v b="${max_its[elastic,$s,$first]:-0}" \
