@@ -9,7 +9,11 @@
 !>                          water table is not given: a dry column)
 !>   effective stress       sigma'_v = sigma_v + p0, sigma'_h = K0 sigma'_v,
 !>                          no shear (the solid carries the effective stress;
-!>                          the pore pressure acts on the faults' faces)
+!>                          the pore pressure acts on the faults' faces); with
+!>                          &material k0_max, sigma'_H = k0_max sigma'_v along
+!>                          the azimuth sh_max_azimuth and sigma'_h = k0
+!>                          sigma'_v across it (principal axes horizontal and
+!>                          vertical)
 !>
 !> The run starts with a step 0 that puts the model in equilibrium under
 !> this state with zero displacement (see the physics).
@@ -21,6 +25,9 @@
 !>   water_table    z of the free water surface [m] (above the mesh top:
 !>                  offshore, the sea bed under water)          [none: dry]
 !>   fluid_density  density of the pore fluid [kg/m^3], > 0             [1000]
+!>   sh_max_azimuth azimuth of the largest horizontal stress [degrees
+!>                  clockwise from north, +y, towards east, +x], in
+!>                  [0, 180); used where a &material gives k0_max       [0]
 module geostatic_config
   use kinds, only: rp, msg_len
   use error_status, only: error_status_t
@@ -39,6 +46,7 @@ module geostatic_config
     real(rp) :: surface_stress = unset_real    !< [Pa]; unset: the water above the top
     real(rp) :: water_table = unset_real       !< [m]; unset: no pore pressure
     real(rp) :: fluid_density = 1000.0_rp      !< [kg/m^3]
+    real(rp) :: sh_max_azimuth = 0.0_rp        !< [degrees] clockwise from +y
   contains
     procedure :: read => read_geostatic_config
     procedure :: describe => describe_geostatic_config
@@ -53,16 +61,16 @@ contains
     type(deck_t), intent(in) :: d
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
-    real(rp) :: gravity, surface_stress, water_table, fluid_density
+    real(rp) :: gravity, surface_stress, water_table, fluid_density, sh_max_azimuth
     integer :: ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    namelist /geostatic/ gravity, surface_stress, water_table, fluid_density
+    namelist /geostatic/ gravity, surface_stress, water_table, fluid_density, sh_max_azimuth
 
     self%on = d%count('geostatic') > 0
     if (.not. self%on) return
     gravity = self%gravity; surface_stress = self%surface_stress; water_table = self%water_table
-    fluid_density = self%fluid_density
+    fluid_density = self%fluid_density; sh_max_azimuth = self%sh_max_azimuth
     call d%block('geostatic', 1, b)
     read(b, nml=geostatic, iostat=ios, iomsg=msg)
     if (ios /= 0) then
@@ -75,9 +83,12 @@ contains
       'surface_stress', 'must be >= 0, a magnitude of compression (got '//rtoa(surface_stress)//')')
     if (.not. fluid_density > 0.0_rp) call d%fail(status, 'geostatic', 1, 'fluid_density', &
       'must be > 0 (got '//rtoa(fluid_density)//')')
+    if (.not. (sh_max_azimuth >= 0.0_rp .and. sh_max_azimuth < 180.0_rp)) call d%fail(status, 'geostatic', 1, &
+      'sh_max_azimuth', 'must lie in [0, 180) degrees (got '//rtoa(sh_max_azimuth)//')')
     if (.not. status%ok()) return
     self%gravity = gravity; self%surface_stress = surface_stress; self%water_table = water_table
     self%fluid_density = fluid_density
+    self%sh_max_azimuth = sh_max_azimuth
   end subroutine read_geostatic_config
 
   !> A water table was given: the pores hold water below it.
@@ -104,5 +115,7 @@ contains
       call g%add_unset('water_table', '(not set: dry, no pore pressure)', 'm', 'z of the free water surface')
     end if
     call g%add('fluid_density', self%fluid_density, 'kg/m^3', 'density of the pore fluid')
+    call g%add('sh_max_azimuth', self%sh_max_azimuth, 'degrees', &
+               'azimuth of the largest horizontal stress, clockwise from north (+y); with &material k0_max')
   end subroutine describe_geostatic_config
 end module geostatic_config

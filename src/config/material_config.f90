@@ -15,7 +15,11 @@
 !> In-situ state (&geostatic; refused without it):
 !>   density       density of the (saturated) rock [kg/m^3] (>= 0)    [required with &geostatic]
 !>   k0            ratio of horizontal to vertical effective stress in
-!>                 situ (> 0)                            [nu / (1 - nu), uniaxial strain]
+!>                 situ (> 0); with k0_max, the ratio of the least
+!>                 horizontal one                        [nu / (1 - nu), uniaxial strain]
+!>   k0_max        ratio of the largest horizontal effective stress (along
+!>                 &geostatic sh_max_azimuth) to the vertical one, >= k0
+!>                                                       [k0: the same in every direction]
 module material_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -43,6 +47,7 @@ module material_config
     real(rp) :: permeability_tensor(6) = unset_real
     real(rp) :: density = unset_real           !< [kg/m^3]; unset: not given
     real(rp) :: k0 = unset_real                !< unset: nu / (1 - nu)
+    real(rp) :: k0_max = unset_real            !< unset: k0
   contains
     procedure :: describe => describe_material
   end type material_config_t
@@ -57,13 +62,13 @@ contains
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: region
     real(rp) :: young, poisson, body_force(3), biot, biot_modulus, permeability, permeability_tensor(6), viscosity
-    real(rp) :: density, k0
+    real(rp) :: density, k0, k0_max
     real(rp) :: t(3, 3), ev(3)
     integer :: k, j, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     namelist /material/ region, young, poisson, body_force, biot, biot_modulus, permeability, permeability_tensor, &
-                        viscosity, density, k0
+                        viscosity, density, k0, k0_max
 
     allocate(mats(d%count('material')))
     if (size(mats) == 0) then
@@ -73,7 +78,7 @@ contains
     do k = 1, size(mats)
       region = ''; young = unset_real; poisson = unset_real; body_force = 0.0_rp
       biot = 1.0_rp; biot_modulus = unset_real; permeability = unset_real; permeability_tensor = unset_real
-      viscosity = 1.0e-3_rp; density = unset_real; k0 = unset_real
+      viscosity = 1.0e-3_rp; density = unset_real; k0 = unset_real; k0_max = unset_real
       call d%block('material', k, b)
       read(b, nml=material, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -105,6 +110,17 @@ contains
         call d%fail(status, 'material', k, 'density', 'must be >= 0 (got '//rtoa(density)//')')
       if (k0 /= unset_real .and. .not. k0 > 0.0_rp) &
         call d%fail(status, 'material', k, 'k0', 'must be > 0 (got '//rtoa(k0)//')')
+      if (k0_max /= unset_real) then
+        if (.not. k0_max > 0.0_rp) then
+          call d%fail(status, 'material', k, 'k0_max', 'must be > 0 (got '//rtoa(k0_max)//')')
+        else if (k0 /= unset_real .and. k0_max < k0) then
+          call d%fail(status, 'material', k, 'k0_max', 'must be >= k0, the least horizontal ratio (got '// &
+                      rtoa(k0_max)//' < '//rtoa(k0)//')')
+        else if (k0 == unset_real .and. poisson /= unset_real .and. poisson > -1.0_rp .and. poisson < 0.5_rp) then
+          if (k0_max < poisson / (1.0_rp - poisson)) call d%fail(status, 'material', k, 'k0_max', &
+            'must be >= k0, here nu / (1 - nu) = '//rtoa(poisson / (1.0_rp - poisson))//' (got '//rtoa(k0_max)//')')
+        end if
+      end if
       t = 0.0_rp
       if (any(permeability_tensor /= unset_real)) then
         if (any(permeability_tensor == unset_real)) then
@@ -131,7 +147,7 @@ contains
       mats(k) = material_config_t(region=region, young=young, poisson=poisson, body_force=body_force, biot=biot, &
         inv_biot_modulus=merge(0.0_rp, 1.0_rp / max(biot_modulus, tiny(1.0_rp)), biot_modulus == unset_real), &
         perm=t, viscosity=viscosity, biot_modulus=biot_modulus, permeability=permeability, &
-        permeability_tensor=permeability_tensor, density=density, k0=k0)
+        permeability_tensor=permeability_tensor, density=density, k0=k0, k0_max=k0_max)
     end do
   end subroutine read_materials
 
@@ -171,6 +187,12 @@ contains
     else
       call g%add_unset('k0', '(not set: nu / (1 - nu))', '-', &
                        'in-situ horizontal / vertical effective stress (&geostatic)')
+    end if
+    if (self%k0_max /= unset_real) then
+      call g%add('k0_max', self%k0_max, '-', 'largest horizontal / vertical effective stress (&geostatic)')
+    else
+      call g%add_unset('k0_max', '(not set: k0 in every direction)', '-', &
+                       'largest horizontal / vertical effective stress (&geostatic)')
     end if
   end subroutine describe_material
 

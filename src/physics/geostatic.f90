@@ -24,6 +24,8 @@ module geostatic
 
   public :: geostatic_t
 
+  real(rp), parameter :: deg = acos(-1.0_rp) / 180.0_rp   !< one degree [rad]
+
   type :: geostatic_t
     logical :: on = .false.
     logical :: wet = .false.               !< a water table: pore pressure below it
@@ -33,6 +35,8 @@ module geostatic
     real(rp) :: rho_f = 0.0_rp             !< fluid density [kg/m^3]
     real(rp) :: top = 0.0_rp, bottom = 0.0_rp   !< z of the mesh top and bottom [m]
     real(rp), allocatable :: rho(:), k0(:)      !< per mesh region [kg/m^3], [-]
+    real(rp), allocatable :: k0_max(:)          !< per mesh region: along sh_dir [-]
+    real(rp) :: sh_dir(2) = [0.0_rp, 1.0_rp]    !< (x, y) of the largest horizontal stress's direction
     real(rp), allocatable :: b(:)               !< per mesh region: Biot coefficient of the effective stress
     real(rp), allocatable :: zlo(:), zhi(:)     !< per mesh region: its depth range [m]
   contains
@@ -67,7 +71,8 @@ contains
     self%zw = cfg%water_table
     self%rho_f = cfg%fluid_density
     n = size(mesh%region_names, kind=ip)
-    allocate(self%rho(n), self%k0(n), self%b(n), self%zlo(n), self%zhi(n))
+    allocate(self%rho(n), self%k0(n), self%k0_max(n), self%b(n), self%zlo(n), self%zhi(n))
+    self%sh_dir = [sin(cfg%sh_max_azimuth * deg), cos(cfg%sh_max_azimuth * deg)]
     self%rho = 0.0_rp
     self%k0 = 0.0_rp
     self%b = 1.0_rp
@@ -78,6 +83,8 @@ contains
         self%k0(r) = mats(i)%k0
         self%b(r) = mats(i)%biot
         if (self%k0(r) == unset_real) self%k0(r) = mats(i)%poisson / (1.0_rp - mats(i)%poisson)
+        self%k0_max(r) = mats(i)%k0_max
+        if (self%k0_max(r) == unset_real) self%k0_max(r) = self%k0(r)
       end do
     end do
     self%zlo = huge(1.0_rp)
@@ -159,18 +166,25 @@ contains
   end function pore_pressure
 
   !> Effective stress at z in region r, as a 3 x 3 tensor [Pa] (tension
-  !> positive): K0 sigma'_v horizontally, sigma'_v = sigma_v + b p0
-  !> vertically (b the region's Biot coefficient: 1, Terzaghi's effective
-  !> stress, unless its &material says otherwise).
+  !> positive): k0_max sigma'_v along sh_dir and k0 sigma'_v across it
+  !> horizontally (one K0 when the region has no k0_max), sigma'_v =
+  !> sigma_v + b p0 vertically (b the region's Biot coefficient: 1,
+  !> Terzaghi's effective stress, unless its &material says otherwise).
   pure function effective_stress(self, r, z) result(s)
     class(geostatic_t), intent(in) :: self
     integer(ip), intent(in) :: r
     real(rp), intent(in) :: z
-    real(rp) :: s(3, 3), sv
+    real(rp) :: s(3, 3), sv, d(2), e(2)
+    integer :: i, j
     sv = self%vertical_stress(z) + self%b(r) * self%pore_pressure(z)
+    d = self%sh_dir
+    e = [d(2), -d(1)]
     s = 0.0_rp
-    s(1, 1) = self%k0(r) * sv
-    s(2, 2) = self%k0(r) * sv
+    do j = 1, 2
+      do i = 1, 2
+        s(i, j) = sv * (self%k0_max(r) * d(i) * d(j) + self%k0(r) * e(i) * e(j))
+      end do
+    end do
     s(3, 3) = sv
   end function effective_stress
 

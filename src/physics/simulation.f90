@@ -293,7 +293,7 @@ contains
     end do
   end subroutine read_common
 
-  !> &material density and k0 belong to &geostatic: required (density) with
+  !> &material density, k0 and k0_max belong to &geostatic: required (density) with
   !> it, refused without it; gravity comes from &geostatic, so a material's
   !> body_force would count it twice.
   subroutine check_in_situ(self, d, status)
@@ -312,6 +312,8 @@ contains
           if (m%density /= unset_real) call d%fail(status, 'material', k, 'density', &
             'is used only with a &geostatic group (for a load, use body_force)')
           if (m%k0 /= unset_real) call d%fail(status, 'material', k, 'k0', &
+            'is used only with a &geostatic group')
+          if (m%k0_max /= unset_real) call d%fail(status, 'material', k, 'k0_max', &
             'is used only with a &geostatic group')
         end if
       end associate
@@ -389,7 +391,8 @@ contains
       'time%t_end', 'time%dt_growth', 'time%dt_max', 'time%times', 'time%undrained']
     character(len=foreign_len), allocatable :: own(:)
     call self%foreign_inputs(own)
-    if (.not. self%geo%on) own = [own, [character(len=foreign_len) :: 'material%density', 'material%k0']]
+    if (.not. self%geo%on) own = [own, [character(len=foreign_len) :: 'material%density', 'material%k0', &
+                                                                   'material%k0_max']]
     if (self%transient) then
       list = [own, [character(len=foreign_len) :: 'time%n_steps']]
     else

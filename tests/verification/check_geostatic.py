@@ -58,15 +58,31 @@ def in_situ(par):
     return g, surface, p0, k0, {n: float(m["density"]) for n, m in mats.items()}
 
 
+def horizontal_ratios(par, region, k0):
+    """The horizontal effective stress / sigma'_v of a region as the (xx, yy,
+    xy) ratios: K0 in every direction, or k0_max along the azimuth
+    sh_max_azimuth (degrees clockwise from +y) and K0 across it."""
+    m = {m["region"]: m for m in par["material"]}[region]
+    kmax = float(m.get("k0_max", k0[region]))
+    az = np.radians(float(par["geostatic"][0].get("sh_max_azimuth", 0.0)))
+    d = np.array([np.sin(az), np.cos(az)])
+    e = np.array([d[1], -d[0]])
+    t = kmax * np.outer(d, d) + k0[region] * np.outer(e, e)
+    return t[0, 0], t[1, 1], t[0, 1]
+
+
 def column_state(par, z):
     """Effective in-situ stress (n, 6) of the two-layer column at heights z."""
     g, surface, p0, k0, rho = in_situ(par)
     sv = -(surface + g * (rho["cap"] * (1.0 - np.maximum(z, 0.6)) + rho["rock"] * np.maximum(0.6 - z, 0.0)))
     sve = sv + p0(z)
-    k = np.where(z < 0.6, k0["rock"], k0["cap"])
+    rock = z < 0.6
     s = np.zeros((len(z), 6))
-    s[:, 0] = k * sve
-    s[:, 1] = k * sve
+    for region, cells in (("rock", rock), ("cap", ~rock)):
+        kx, ky, kxy = horizontal_ratios(par, region, k0)
+        s[cells, 0] = kx * sve[cells]
+        s[cells, 1] = ky * sve[cells]
+        s[cells, 3] = kxy * sve[cells]
     s[:, 2] = sve
     return s
 

@@ -9,6 +9,7 @@
 #     round-off, the displacement zero and the stress at every cell centre
 #     the lithostatic one (effective: sigma'_v = sigma_v + p0, K0 sigma'_v
 #     horizontally) to 1e-9 of the largest, at every step, on 1 and 2 ranks;
+#     the same with k0_max along N30E (an xy stress), 2 ranks;
 #  2. superposition: the same column with 1 MPa more on the top in two load
 #     steps gives the displacement of the run without gravity and the stress
 #     of that run plus the in-situ stress (1e-7: both solved to 1e-10);
@@ -120,6 +121,16 @@ for np in 1 2; do
   sed -i "s#prefix = 'rest'#prefix = 'rest_np$np'#" "$out/rest_np$np.nml"
   run rest_np$np $np && report "column at rest ($np ranks)" $PY tests/verification/check_geostatic.py column "$out/rest_np$np"
 done
+
+# 1b. the column at rest under horizontal stresses that differ with
+# direction: k0_max along N30E in both layers (the stress has an xy part,
+# which the in-situ tractions carry on the roller sides)
+sed -e "s/density = 2300.0, k0 = 0.7/density = 2300.0, k0 = 0.6, k0_max = 1.4/" \
+    -e "s/density = 2500.0/density = 2500.0, k0_max = 1.1/" \
+    -e "s/water_table = 0.8, surface_stress = 1.0e5/water_table = 0.8, surface_stress = 1.0e5, sh_max_azimuth = 30.0/" \
+    -e "s#prefix = 'rest'#prefix = 'aniso'#" "$out/rest.nml" > "$out/aniso.nml"
+run aniso 2 && report "column at rest, k0_max along N30E (2 ranks)" \
+  $PY tests/verification/check_geostatic.py column "$out/aniso"
 
 # 2. superposition with a load on the top
 load="&boundary
