@@ -114,9 +114,12 @@ def main():
     ax.set_ylabel("y [m]")
     ax.set_zlabel("z [m]" + (f" (drawn x {a.z_scale:g})" if a.z_scale != 1.0 else ""))
     if a.z_scale != 1.0:
-        # the ticks name true depths
-        from matplotlib.ticker import FuncFormatter
-        ax.zaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v / a.z_scale:g}"))
+        # the ticks name true depths, at round values of them
+        from matplotlib.ticker import MaxNLocator
+        ticks = [t for t in MaxNLocator(5).tick_values(lo[2] / a.z_scale, hi[2] / a.z_scale)
+                 if lo[2] <= t * a.z_scale <= hi[2]]
+        ax.set_zticks([t * a.z_scale for t in ticks])
+        ax.set_zticklabels([f"{t:g}" for t in ticks])
     ax.view_init(elev=a.elev, azim=a.azim)
     t = run.times()[a.step]
     ax.set_title(f"{run.prefix}: faults, {a.field}, load {t:g}")

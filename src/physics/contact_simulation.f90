@@ -621,6 +621,13 @@ contains
     if (status%ok()) call self%fout%write_step(out, self%mesh, self%phys%trac, self%phys%jump - self%jump_geo, &
                                                 self%phys%state - 1, &
                                                 self%phys%rot, self%phys%fric, self%phys%coh, status)
+    if (.not. self%flow .and. status%ok()) then
+      ! the fluid pressure on the faces: &fault pressure, the in-situ p0 and
+      ! the mean &pressure_change of the two cells, at the step's load
+      associate (n => self%mesh%iface_map%n_owned)
+        call out%writer%cell_field('pressure', self%phys%pres(1:n), status, self%fout%grid)
+      end associate
+    end if
     if (self%flow .and. status%ok()) then
       associate (n => self%mesh%iface_map%n_owned)
         call out%writer%cell_field('pressure', self%phys%p(1:n), status, self%fout%grid)
