@@ -37,7 +37,7 @@ parse_biot_log() {
   ref=$(grep -m1 'elastic reference' "$log" | sed -E 's/.*iterations ([0-9]+),.*AMG setup +([0-9.]+) s, solve +([0-9.]+) s.*/\1 \/ \2 \/ \3/')
   refs=$(grep -m1 'elastic reference' "$log" | sed -E 's/.*solve +([0-9.]+) s.*/\1/')
   ratio="-"
-  [ -n "$refs" ] && [ -n "$ts" ] && ratio=$(echo "scale=2; $ts / $refs" | bc)
+  [ -n "$refs" ] && [ -n "$ts" ] && ratio=$(awk -v a="$ts" -v b="$refs" 'BEGIN {printf "%.2f", a / b}')
   mu=$(grep -m1 'density mu' "$log" | sed -E 's/.*density mu ([0-9.eE+-]+).*/\1/')
   rss=$(grep -m1 'Maximum resident set size' "$log" | awk '{print int($NF/1024)}')
   conv=yes
