@@ -28,10 +28,6 @@ module csr_matrix
     integer(gp), allocatable :: stash_row(:), stash_col(:)
     real(rp), allocatable :: stash_val(:)
     real(rp), allocatable :: x_ext(:)           !< work: x with ghost columns
-    !> rows come in threes with the same columns (the three components of a
-    !> node, e.g. K of Q1 elasticity): apply reads each column id and x
-    !> value once for the three rows (set by init from the pattern)
-    logical :: triples = .false.
     !> a column map built for this matrix (global_csr%to_csr), freed with it
     type(index_map_t), pointer :: owned_col_map => null()
   contains
@@ -69,30 +65,7 @@ contains
     self%val = 0.0_rp
     allocate(self%stash_row(1024), self%stash_col(1024), self%stash_val(1024))
     allocate(self%x_ext(col_map%n_local()))
-    self%triples = rows_in_triples(self%n_rows, self%row_ptr, self%col)
   end subroutine init
-
-  !> Whether the n rows of (row_ptr, col) come in consecutive threes with
-  !> the same column ids (n a multiple of 3, at least one row).
-  logical function rows_in_triples(n, row_ptr, col) result(yes)
-    integer(ip), intent(in) :: n, row_ptr(:), col(:)
-    integer(ip) :: i, len, k
-    yes = n > 0 .and. mod(n, 3_ip) == 0
-    if (.not. yes) return
-    do i = 1, n, 3
-      len = row_ptr(i + 1) - row_ptr(i)
-      if (row_ptr(i + 2) - row_ptr(i + 1) /= len .or. row_ptr(i + 3) - row_ptr(i + 2) /= len) then
-        yes = .false.
-        return
-      end if
-      do k = 0, len - 1
-        if (col(row_ptr(i + 1) + k) /= col(row_ptr(i) + k) .or. col(row_ptr(i + 2) + k) /= col(row_ptr(i) + k)) then
-          yes = .false.
-          return
-        end if
-      end do
-    end do
-  end function rows_in_triples
 
   subroutine zero(self)
     class(csr_matrix_t), intent(inout) :: self
@@ -235,33 +208,11 @@ contains
     class(csr_matrix_t), intent(inout) :: self
     real(rp), intent(in) :: x(:)
     real(rp), intent(out) :: y(:)
-    integer(ip) :: i, k, nown, k1, k2, m
-    real(rp) :: s, s1, s2, xv
+    integer(ip) :: i, k, nown
+    real(rp) :: s
     nown = self%col_map%n_owned
     self%x_ext(1:nown) = x(1:nown)
     call self%col_map%import(self%x_ext)
-    if (self%triples) then
-      ! three rows with one column list: the ids and x values read once
-      ! (a memory-bound product: 9.3 bytes moved per entry instead of 12)
-      do i = 1, self%n_rows, 3
-        k1 = self%row_ptr(i + 1)
-        k2 = self%row_ptr(i + 2)
-        s = 0.0_rp
-        s1 = 0.0_rp
-        s2 = 0.0_rp
-        do m = 0, k1 - self%row_ptr(i) - 1
-          k = self%row_ptr(i) + m
-          xv = self%x_ext(self%col(k))
-          s = s + self%val(k) * xv
-          s1 = s1 + self%val(k1 + m) * xv
-          s2 = s2 + self%val(k2 + m) * xv
-        end do
-        y(i) = s
-        y(i + 1) = s1
-        y(i + 2) = s2
-      end do
-      return
-    end if
     do i = 1, self%n_rows
       s = 0.0_rp
       do k = self%row_ptr(i), self%row_ptr(i+1) - 1
@@ -338,7 +289,6 @@ contains
     if (allocated(self%stash_col)) deallocate(self%stash_col)
     if (allocated(self%stash_val)) deallocate(self%stash_val)
     if (allocated(self%x_ext)) deallocate(self%x_ext)
-    self%triples = .false.
     self%row_map => null()
     self%col_map => null()
     if (associated(self%owned_col_map)) then

@@ -5,9 +5,7 @@
 !> stash -> finalize_assembly). Every rank also builds the dense global
 !> matrix from the same element matrices: the independent reference for the
 !> entries, apply(), diagonal() and the MatrixMarket file. 1 or 2 ranks
-!> (more work as well). Then a matrix with three unknowns per node (rows in
-!> threes with one column list, apply's fast path) against its dense product,
-!> and the same with one triple broken (the general path).
+!> (more work as well).
 program test_csr
   use kinds, only: rp, ip, gp
   use parallel_comm, only: parallel_comm_t
@@ -30,8 +28,6 @@ program test_csr
   call build_dense(dense)
   call check_matrix(by_blocks, 'elements in rank blocks')
   call check_matrix(round_robin, 'elements dealt round robin')
-  call check_triples(.false.)
-  call check_triples(.true.)
   call suite%finish()
 
 contains
@@ -305,81 +301,4 @@ contains
     call suite%assert_true(ok_entries, 'MatrixMarket: nnz distinct entries, nothing more: '//label)
     call suite%assert_close(err, 0.0_rp, 1.0e-12_rp, 'MatrixMarket entries read back: '//label)
   end subroutine check_matrix_market
-  !> Three unknowns per node of the mesh: the node graph times full 3 x 3
-  !> blocks with distinct entries, nodes owned in contiguous ranges. With
-  !> broken, the second row of the first owned node loses its first column:
-  !> no longer rows in threes, so apply takes the general path. Both
-  !> against the dense product.
-  subroutine check_triples(broken)
-    logical, intent(in) :: broken
-    integer, parameter :: n3 = 3 * n_nodes
-    type(index_map_t), target :: row_map, col_map
-    type(csr_matrix_t) :: a
-    real(rp) :: d3(n3, n3), xg(n3), yg(n3)
-    real(rp), allocatable :: x(:), y(:)
-    integer(gp), allocatable :: ghosts(:)
-    integer(ip), allocatable :: row_ptr(:), col(:)
-    logical :: in_cols(n3)
-    integer(gp) :: first, last, g
-    integer(ip) :: nown, r, k, n, b
-    integer :: np, me, i, j
-    character(len=:), allocatable :: label
-    label = trim(merge('one triple broken', 'rows in threes   ', broken))
-    np = comm%size
-    me = comm%rank
-    do b = 1, n_nodes
-      do k = 1, n_nodes
-        do j = 1, 3
-          do i = 1, 3
-            d3(3 * k - 3 + i, 3 * b - 3 + j) = dense(k, b) * (1.0_rp + 0.1_rp * (i - 1) + 0.01_rp * (j - 1))
-          end do
-        end do
-      end do
-    end do
-    nown = int(n_nodes / np + merge(1, 0, me < mod(n_nodes, np)), ip)
-    first = 1 + int(me, gp) * (n_nodes / np) + min(me, mod(n_nodes, np))
-    last = first + nown - 1
-    first = 3 * first - 2
-    last = 3 * last
-    nown = 3 * nown
-    if (broken) d3(first + 1, minloc(abs(d3(first + 1, :) - 0.0_rp), 1, d3(first + 1, :) /= 0.0_rp)) = 0.0_rp
-    in_cols = .false.
-    do g = first, last
-      in_cols = in_cols .or. d3(g, :) /= 0.0_rp
-    end do
-    call masked_outside(in_cols, first, last, ghosts)
-    call row_map%init(comm, nown, [integer(gp) ::])
-    call col_map%init(comm, nown, ghosts)
-    allocate(row_ptr(nown + 1), col(count(d3(first:last, :) /= 0.0_rp)))
-    row_ptr(1) = 1
-    do r = 1, nown
-      g = first + r - 1
-      n = 0
-      do b = 1, n3
-        if (d3(g, b) == 0.0_rp) cycle
-        col(row_ptr(r) + n) = col_map%local_id(int(b, gp))
-        n = n + 1
-      end do
-      call sort_local(col(row_ptr(r):row_ptr(r) + n - 1))
-      row_ptr(r + 1) = row_ptr(r) + n
-    end do
-    call a%init(row_map, col_map, row_ptr, col)
-    call suite%assert_true(a%triples .neqv. broken, 'rows in threes detected: '//merge('no ', 'yes', broken)//&
-                           ' ('//label//')')
-    do r = 1, nown
-      do k = a%row_ptr(r), a%row_ptr(r + 1) - 1
-        call a%add_value(r, a%col(k), d3(first + r - 1, col_map%global_id(a%col(k))))
-      end do
-    end do
-    do g = 1, n3
-      xg(g) = cos(0.17_rp * g) + 0.02_rp * g
-    end do
-    yg = matmul(d3, xg)
-    allocate(x(nown), y(nown))
-    x = xg(first:last)
-    call a%apply(x, y)
-    call suite%assert_close_array(y, yg(first:last), 1.0e-12_rp, 'three unknowns per node, apply against the '// &
-                                  'dense product ('//label//')')
-    call a%free()
-  end subroutine check_triples
 end program test_csr
