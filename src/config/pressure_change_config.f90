@@ -39,7 +39,6 @@ module pressure_change_config
     character(len=path_len) :: history = ''
     logical :: has_point = .false.                  !< point given: one fault block of the region
     real(rp) :: point(3) = 0.0_rp                   !< [m] a point of that block
-    integer :: group = 0                            !< its index among the &pressure_change groups
     real(rp), allocatable :: hist_t(:), hist_f(:)   !< the history, once loaded
   contains
     procedure :: describe => describe_pressure_change
@@ -89,7 +88,6 @@ contains
         end if
       end do
       if (.not. status%ok()) return
-      pcs(k)%group = k
       if (pcs(k)%has_point) pcs(k)%point = point
       pcs(k)%region = region
       pcs(k)%value = value

@@ -667,7 +667,7 @@ contains
     allocate(blk(size(pcs)))
     blk = 0
     do k = 1, size(pcs, kind=ip)
-      where = "&pressure_change "//itoa(pcs(k)%group)//" (region '"//trim(pcs(k)%region)//"')"
+      where = "&pressure_change "//itoa(k)//" (region '"//trim(pcs(k)%region)//"'), variable point"
       r = mesh%region_id(pcs(k)%region)
       if (r == 0) then
         call status%set("&pressure_change on region '"//trim(pcs(k)%region)//"', which the mesh does not have "// &
@@ -678,13 +678,12 @@ contains
         call point_block(mesh, pcs(k)%point, blk(k), rpt, status, where)
         if (.not. status%ok()) return
         if (rpt /= r) then
-          call status%set(where//": its point lies in region '"//trim(mesh%region_names(rpt))//"'")
+          call status%set(where//": lies in region '"//trim(mesh%region_names(rpt))//"'")
           return
         end if
         do j = 1, k - 1
           if (blk(j) == blk(k) .and. pcs(j)%region == pcs(k)%region) then
-            call status%set(where//": its point lies in the fault block of &pressure_change "// &
-                            itoa(pcs(j)%group)//"'s point")
+            call status%set(where//": lies in the fault block of &pressure_change "//itoa(j)//"'s point")
             return
           end if
         end do
@@ -719,7 +718,7 @@ contains
     blk = 0
     reg = 0
     if (.not. found) then
-      call status%set(where//": its point ("//trim(rtoa(p(1)))//', '//trim(rtoa(p(2)))//', '// &
+      call status%set(where//": ("//trim(rtoa(p(1)))//', '//trim(rtoa(p(2)))//', '// &
                       trim(rtoa(p(3)))//') lies outside the mesh')
       return
     end if
