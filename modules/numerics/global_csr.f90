@@ -14,7 +14,8 @@
 !> A row_store_t holds a set of rows fetched from their owners (by global id,
 !> ascending) with their keys; fetch_rows() extends one, collectively.
 !> to_csr() turns a global_csr_t into a csr_matrix_t (which owns the column
-!> map it builds) for fast application; from_csr() goes the other way.
+!> map it builds) for fast application; from_csr() goes the other way;
+!> add_to_csr() adds one into a csr_matrix_t whose pattern holds it.
 module global_csr
   use kinds, only: rp, ip, gp
   use parallel_comm, only: parallel_comm_t
@@ -25,7 +26,7 @@ module global_csr
 
   public :: global_csr_t, row_store_t
   public :: from_csr, to_csr, fetch_rows, gcsr_transpose, gcsr_multiply, gcsr_add, drop_small, search_gid
-  public :: csr_positions, same_pattern
+  public :: add_to_csr, add_csr_to_csr
 
   type :: global_csr_t
     type(parallel_comm_t) :: comm
@@ -208,47 +209,65 @@ contains
     m%owned_col_map => cmap
   end subroutine to_csr
 
-  !> perm(k) = the position in g of entry k of m, where m came from g by
-  !> to_csr (the same rows; per row the same global columns, in local
-  !> order): a later g of the same pattern then refreshes m's values as
-  !> m%val = g%val(perm), without a new matrix.
-  subroutine csr_positions(g, m, perm)
+  !> m%val += alpha g%val at g's entries, where g has m's owned rows and
+  !> global columns: a new sum into a matrix whose pattern holds it (S* =
+  !> K + C1 H^-1 C2 refreshed in place). fits = .false. when an entry of g
+  !> has no place in m (m then holds part of the sum: rebuild it). Local.
+  subroutine add_to_csr(alpha, g, m, fits)
+    real(rp), intent(in) :: alpha
     type(global_csr_t), intent(in) :: g
-    type(csr_matrix_t), intent(in) :: m
-    integer(ip), allocatable, intent(out) :: perm(:)
-    integer(ip) :: i, k, lo, hi, mid
-    integer(gp) :: c
-    allocate(perm(m%nnz()))
-    do i = 1, m%n_rows
-      do k = m%row_ptr(i), m%row_ptr(i + 1) - 1
-        c = m%col_map%global_id(m%col(k))
-        lo = g%row_ptr(i)
-        hi = g%row_ptr(i + 1) - 1
-        do while (lo < hi)
-          mid = (lo + hi) / 2
-          if (g%gcol(mid) < c) then
-            lo = mid + 1
-          else
-            hi = mid
-          end if
-        end do
-        if (g%gcol(lo) /= c) error stop 'global_csr%csr_positions: m is not from g'
-        perm(k) = lo
-      end do
+    type(csr_matrix_t), intent(inout) :: m
+    logical, intent(out) :: fits
+    integer(ip) :: i
+    fits = g%n_rows == m%n_rows
+    do i = 1, g%n_rows
+      if (.not. fits) return
+      call add_row(alpha, g%gcol(g%row_ptr(i):g%row_ptr(i + 1) - 1), g%val(g%row_ptr(i):g%row_ptr(i + 1) - 1), &
+                   i, m, fits)
     end do
-  end subroutine csr_positions
+  end subroutine add_to_csr
 
-  !> g has exactly the rows and columns row_ptr, gcol.
-  logical function same_pattern(g, row_ptr, gcol)
-    type(global_csr_t), intent(in) :: g
-    integer(ip), intent(in) :: row_ptr(:)
+  !> As add_to_csr, for a csr_matrix_t a (its own column map) with m's
+  !> owned rows.
+  subroutine add_csr_to_csr(alpha, a, m, fits)
+    real(rp), intent(in) :: alpha
+    type(csr_matrix_t), intent(in) :: a
+    type(csr_matrix_t), intent(inout) :: m
+    logical, intent(out) :: fits
+    integer(gp), allocatable :: gcol(:)
+    integer(ip) :: i, k
+    fits = a%n_rows == m%n_rows
+    allocate(gcol(max(0, maxval(a%row_ptr(2:a%n_rows + 1) - a%row_ptr(1:a%n_rows)))))
+    do i = 1, a%n_rows
+      if (.not. fits) return
+      associate (r0 => a%row_ptr(i), r1 => a%row_ptr(i + 1) - 1)
+        do k = r0, r1
+          gcol(k - r0 + 1) = a%col_map%global_id(a%col(k))
+        end do
+        call add_row(alpha, gcol(1:r1 - r0 + 1), a%val(r0:r1), i, m, fits)
+      end associate
+    end do
+  end subroutine add_csr_to_csr
+
+  !> m%val(row i, columns gcol) += alpha v; fits = .false. at the first
+  !> column not in the row's pattern.
+  subroutine add_row(alpha, gcol, v, i, m, fits)
+    real(rp), intent(in) :: alpha
     integer(gp), intent(in) :: gcol(:)
-    same_pattern = .false.
-    if (size(row_ptr) /= g%n_rows + 1) return
-    if (any(row_ptr /= g%row_ptr)) return
-    if (size(gcol) /= g%nnz()) return
-    same_pattern = all(gcol == g%gcol(1:g%nnz()))
-  end function same_pattern
+    real(rp), intent(in) :: v(:)
+    integer(ip), intent(in) :: i
+    type(csr_matrix_t), intent(inout) :: m
+    logical, intent(inout) :: fits
+    integer(ip) :: k, pos
+    do k = 1, size(gcol, kind=ip)
+      pos = m%find(i, m%col_map%local_id(gcol(k)))
+      if (pos == 0) then
+        fits = .false.
+        return
+      end if
+      m%val(pos) = m%val(pos) + alpha * v(k)
+    end do
+  end subroutine add_row
 
   !> Sort one row by global column (values follow). Rows that are in order
   !> already (most: a column map numbers owned columns first, in order) are

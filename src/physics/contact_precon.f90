@@ -72,7 +72,7 @@ module contact_precon
   use parallel_comm, only: wall_time
   use error_status, only: error_status_t
   use csr_matrix, only: csr_matrix_t
-  use global_csr, only: global_csr_t, from_csr, to_csr, gcsr_multiply, gcsr_add, csr_positions, same_pattern
+  use global_csr, only: global_csr_t, from_csr, to_csr, gcsr_multiply, gcsr_add, add_to_csr, add_csr_to_csr
   use amg_params, only: amg_params_t
   use precon, only: precon_t
   use precon_factory, only: precon_params_t, make_and_setup
@@ -95,7 +95,7 @@ module contact_precon
   type :: contact_precon_t
     type(block_precon_t) :: bp
     type(csr_matrix_t) :: s                      !< S* (reordered, augmented) or -S (classical)
-    type(global_csr_t) :: gk, gc1                !< K and C1 (classical: diag(K)^-1 C1)
+    type(global_csr_t) :: gc1                    !< C1 (classical: diag(K)^-1 C1)
     type(csr_matrix_t) :: sp                     !< S_p, the pressure's Schur complement (flow)
     type(global_csr_t) :: gup                    !< A_up = Q1 (flow, constant)
     logical :: p_eliminated = .false.            !< flow: pressure_block = 'eliminated'
@@ -117,10 +117,6 @@ module contact_precon
     class(precon_t), allocatable :: plsub        !< BoomerAMG of L
     logical :: subspace = .false.                !< flow: the subspace correction (&fracture_flow)
     integer(gp) :: nnz_schur = 0                 !< non-zeros of the last Schur matrix
-    !> S*'s pattern as built (rows, global columns) and where each of its
-    !> entries sits in the product's arrays: a refresh of the values
-    integer(ip), allocatable :: s_rowptr(:), s_perm(:)
-    integer(gp), allocatable :: s_gcol(:)
   contains
     procedure :: setup
     procedure :: add_parts
@@ -163,7 +159,6 @@ contains
         call scale_rows_by_diagonal(phys%sys%a(phys%bu, phys%bu), self%gc1)
         call self%bp%set_implicit(phys%bu, phys%bt, phys%bu)
       else
-        call from_csr(phys%sys%a(phys%bu, phys%bu), self%gk)
         call self%bp%set_implicit(phys%bt, phys%bu, phys%bt)
         call self%bp%set_implicit(phys%bu, phys%bt, phys%bt)
         if (phys%flow) then
@@ -243,6 +238,13 @@ contains
   end subroutine classical_schur
 
   !> S_1 = -H~ and S_2 = BoomerAMG(K + C1 H~^-1 C2).
+  !> While S*'s pattern holds the product's (it does: C2's pattern is fixed,
+  !> the statuses change its values), the new values go into the S* already
+  !> built, K's and the product's added in place, and its plain BoomerAMG
+  !> hierarchy is rebuilt on them: no second S* exists at any time. Only a
+  !> first build (or a new pattern) forms S* as a sum of distributed
+  !> matrices, after the old S* and its hierarchy are freed: the set-up's
+  !> peak memory is then one S* with its sum's operands, not two S*.
   subroutine reordered_schur(self, phys, mesh, ccfg, amg, h, status)
     type(contact_precon_t), intent(inout), target :: self
     type(contact_t), intent(inout), target :: phys
@@ -251,7 +253,7 @@ contains
     type(amg_params_t), intent(in) :: amg
     real(rp), allocatable, intent(out) :: h(:)   !< H~ (owned t rows)
     type(error_status_t), intent(inout) :: status
-    type(global_csr_t) :: gc2, prod, sstar
+    type(global_csr_t) :: gc2, prod, corr, gk, sum1, sstar
     class(precon_t), allocatable :: p, w
     type(precon_params_t) :: params
     !> tolerance and cap of the inner CG of schur_solve = 'inner_cg'
@@ -265,27 +267,39 @@ contains
     call from_csr(phys%sys%a(phys%bt, phys%bu), gc2)
     call divide_rows(gc2, h)
     call gcsr_multiply(self%gc1, gc2, prod)
-    call gcsr_add(1.0_rp, self%gk, 1.0_rp, prod, sstar)
-    if (self%p_eliminated) call eliminate_pressure(self, phys, sstar)
-    ! the same pattern as the last S* (it is: C2's pattern is fixed), its
-    ! BoomerAMG plain: new values into the same matrix and hierarchy update
-    if (allocated(self%s_perm)) then
-      if (.not. mesh%comm%any_true(.not. same_pattern(sstar, self%s_rowptr, self%s_gcol))) then
-        select type (q => self%bp%s(phys%bu)%p)
-        type is (boomeramg_precon_t)
-          self%s%val = sstar%val(self%s_perm)
+    call gc2%free()
+    ! S** (pressure_block = 'eliminated') takes away Q1 D_p^-1 A_pu
+    if (self%p_eliminated) call pressure_correction(self, phys, corr)
+    if (allocated(self%bp%s(phys%bu)%p)) then
+      select type (q => self%bp%s(phys%bu)%p)
+      type is (boomeramg_precon_t)
+        if (refreshed(self, phys, mesh, prod, corr)) then
           self%t_smat = wall_time() - t0
           call q%update(self%s, status)
           self%t_sprec = q%setup_time
           return
-        end select
-      end if
+        end if
+      end select
+    end if
+    ! a new S*: the old one and its preconditioner go first
+    if (allocated(self%bp%s(phys%bu)%p)) then
+      call self%bp%s(phys%bu)%p%free()
+      deallocate(self%bp%s(phys%bu)%p)
     end if
     call self%s%free()
-    call to_csr(sstar, phys%mech%u%map, self%s)
-    call csr_positions(sstar, self%s, self%s_perm)
-    self%s_rowptr = sstar%row_ptr
-    self%s_gcol = sstar%gcol(1:sstar%nnz())
+    call from_csr(phys%sys%a(phys%bu, phys%bu), gk)
+    call gcsr_add(1.0_rp, gk, 1.0_rp, prod, sum1)
+    call gk%free()
+    call prod%free()
+    if (self%p_eliminated) then
+      call gcsr_add(1.0_rp, sum1, -1.0_rp, corr, sstar)
+      call sum1%free()
+      call to_csr(sstar, phys%mech%u%map, self%s)
+      call sstar%free()
+    else
+      call to_csr(sum1, phys%mech%u%map, self%s)
+      call sum1%free()
+    end if
     self%nnz_schur = self%s%global_nnz()
     params%amg = amg
     ! S* has K's near-null space: the rigid-body modes, where asked (&amg)
@@ -305,6 +319,21 @@ contains
     end if
     call replace(self%bp%s(phys%bu)%p, p)
   end subroutine reordered_schur
+
+  !> S*'s values anew in place, K + prod (- corr), when S*'s pattern holds
+  !> them on every rank. Collective.
+  logical function refreshed(self, phys, mesh, prod, corr)
+    type(contact_precon_t), intent(inout) :: self
+    type(contact_t), intent(in) :: phys
+    type(dist_mesh_t), intent(in) :: mesh
+    type(global_csr_t), intent(in) :: prod, corr
+    logical :: fits
+    self%s%val = 0.0_rp
+    call add_csr_to_csr(1.0_rp, phys%sys%a(phys%bu, phys%bu), self%s, fits)
+    if (fits) call add_to_csr(1.0_rp, prod, self%s, fits)
+    if (fits .and. self%p_eliminated) call add_to_csr(-1.0_rp, corr, self%s, fits)
+    refreshed = .not. mesh%comm%any_true(.not. fits)
+  end function refreshed
 
   !> The fractures' subspace correction (&fracture_flow subspace_correction,
   !> subspace_precon.f90), one vector per element: on a closed element its
@@ -380,16 +409,16 @@ contains
   end subroutine element_subspace
 
   !> pressure_block = 'eliminated' (header): S_p = D_p, the row sums of
-  !> |A_pp|, into its slot, and sstar -= Q1 D_p^-1 A_pu. (Built for the
-  !> total traction as 'schur' is, with B_up in place of Q1, it kept the
-  !> closed elements' coupling out of S** and needed more iterations:
-  !> 72/41 against 64/36 in stick, up to 121 against 89 slipping, on the
-  !> reduced nine-fracture case.)
-  subroutine eliminate_pressure(self, phys, sstar)
+  !> |A_pp|, into its slot, and corr = Q1 D_p^-1 A_pu, which S** takes away
+  !> from S*. (Built for the total traction as 'schur' is, with B_up in place
+  !> of Q1, it kept the closed elements' coupling out of S** and needed more
+  !> iterations: 72/41 against 64/36 in stick, up to 121 against 89
+  !> slipping, on the reduced nine-fracture case.)
+  subroutine pressure_correction(self, phys, corr)
     type(contact_precon_t), intent(inout) :: self
     type(contact_t), intent(inout), target :: phys
-    type(global_csr_t), intent(inout) :: sstar
-    type(global_csr_t) :: gpu, prod, total
+    type(global_csr_t), intent(out) :: corr
+    type(global_csr_t) :: gpu
     real(rp), allocatable :: dp(:)
     integer(ip) :: i
     associate (app => phys%sys%a(phys%bp, phys%bp))
@@ -400,11 +429,9 @@ contains
     end associate
     call from_csr(phys%sys%a(phys%bp, phys%bu), gpu)
     call divide_rows(gpu, dp)
-    call gcsr_multiply(self%gup, gpu, prod)
-    call gcsr_add(1.0_rp, sstar, -1.0_rp, prod, total)
-    sstar = total
+    call gcsr_multiply(self%gup, gpu, corr)
     call put_diagonal(self%bp%s(phys%bp)%p, dp)
-  end subroutine eliminate_pressure
+  end subroutine pressure_correction
 
   !> Rows of g divided by d (owned rows).
   subroutine divide_rows(g, d)
@@ -564,7 +591,6 @@ contains
     class(contact_precon_t), intent(inout) :: self
     call self%bp%free()
     call self%s%free()
-    call self%gk%free()
     call self%gc1%free()
     call self%sp%free()
     call self%gup%free()
@@ -578,7 +604,6 @@ contains
     self%variant = ''
     self%p_eliminated = .false.
     if (allocated(self%built_state)) deallocate(self%built_state)
-    if (allocated(self%s_perm)) deallocate(self%s_perm, self%s_rowptr, self%s_gcol)
     self%reused = 0
   end subroutine free
 end module contact_precon

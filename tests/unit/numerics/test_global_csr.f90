@@ -1,14 +1,15 @@
 !> Unit tests of global_csr: every rank builds the same small dense matrices
 !> (deterministic sparse patterns), takes its block of rows as a
 !> global_csr_t, and checks transpose, multiply, add, drop_small, fetch_rows
-!> and to_csr (+ apply) against the dense reference. Any number of ranks.
+!> to_csr (+ apply) and the sums in place (add_to_csr, add_csr_to_csr)
+!> against the dense reference. Any number of ranks.
 program test_global_csr
   use kinds, only: rp, ip, gp
   use parallel_comm, only: parallel_comm_t
   use index_map, only: index_map_t
   use csr_matrix, only: csr_matrix_t
   use global_csr, only: global_csr_t, row_store_t, gcsr_transpose, gcsr_multiply, gcsr_add, drop_small, fetch_rows, &
-    to_csr, from_csr
+    to_csr, from_csr, add_to_csr, add_csr_to_csr
   use assertions, only: test_suite_t
   implicit none
 
@@ -19,13 +20,13 @@ program test_global_csr
   type(global_csr_t) :: a, b, s, t, c, e
   type(row_store_t) :: store
   type(index_map_t), target :: rmap
-  type(csr_matrix_t) :: m
+  type(csr_matrix_t) :: m, ms, me
   type(global_csr_t) :: back
   real(rp), allocatable :: x(:), y(:)
   integer(gp), allocatable :: want(:)
   integer :: i, k
   integer(gp) :: o1(0:64), o2(0:64), o3(0:64)
-  logical :: ok
+  logical :: ok, ok2
 
   call comm%init_world()
   call suite%init('global_csr', comm)
@@ -96,6 +97,22 @@ program test_global_csr
   call from_csr(m, back)
   call suite%assert_true(matches(back, da, o1), 'from_csr(to_csr(a)) = a')
   call m%free()
+
+  ! sums in place: into s's pattern (ghost columns on more ranks than one),
+  ! 2 e (e: s with entries dropped, its own csr column map) - s
+  call to_csr(s, rmap, ms)
+  call to_csr(e, rmap, me)
+  ms%val = 0.0_rp
+  call add_csr_to_csr(2.0_rp, me, ms, ok)
+  call add_to_csr(-1.0_rp, s, ms, ok2)
+  call suite%assert_true(comm%sum(merge(0, 1, ok .and. ok2)) == 0, 'add_to_csr, add_csr_to_csr: the sums fit s''s pattern')
+  call from_csr(ms, back)
+  call suite%assert_true(matches(back, 2.0_rp * ds - ds0, o1), 'add_to_csr, add_csr_to_csr: 2 e - s in place')
+  ! s does not fit the pattern of e, which lacks the dropped entries
+  call add_to_csr(1.0_rp, s, me, ok)
+  call suite%assert_true(comm%sum(merge(0, 1, ok)) > 0, 'add_to_csr: an entry outside the pattern is refused')
+  call ms%free()
+  call me%free()
   call suite%finish()
   call comm%finalize()
 
