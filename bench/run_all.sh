@@ -6,7 +6,7 @@
 # Usage: bench/run_all.sh [script ...]   (default: all, in the order below)
 set -u
 cd "$(dirname "$0")/.."
-# the longest last: the seed's large cases (the full HI24L needs some 22 GB)
+# the longest last: the seed's large cases (the full HI24L: some 16 GB, 31 min)
 scripts=${*:-"run_bench.sh run_bench_biot.sh run_bench_peers.sh run_bench_scaling.sh run_bench_contact.sh \
 run_bench_fsai.sh run_bench_flow.sh run_bench_standins.sh run_bench_hi24l.sh"}
 mkdir -p build/bench

@@ -107,16 +107,16 @@ contains
 
   !> Scalar Laplacian, 30^3 unknowns: hypre's product equals ours; the AMG
   !> V-cycle as a stationary iteration reduces the residual by 1e-6 in at
-  !> most 30 cycles; update() with 2A halves M^-1 r; a changed pattern is
-  !> refused.
+  !> most 30 cycles; update() with 2A halves M^-1 r; a changed pattern (other
+  !> rows, or one column moved) is refused.
   subroutine test_scalar(suite, comm)
     type(test_suite_t), intent(inout) :: suite
     type(parallel_comm_t), intent(in) :: comm
     type(index_map_t), target :: row_map, col_map, row_map2, col_map2
-    type(csr_matrix_t) :: a, a2
+    type(csr_matrix_t) :: a, a2, a3
     type(boomeramg_precon_t) :: amg
     type(amg_params_t) :: p
-    type(error_status_t) :: st, st2
+    type(error_status_t) :: st, st2, st3
     real(rp), allocatable :: x(:), y(:), yh(:), z1(:), z2(:)
     integer :: cycles, ierr
     real(rp) :: red
@@ -166,6 +166,12 @@ contains
     call amg%update(a2, st2)
     call suite%assert_true(.not. st2%ok() .and. index(st2%msg, 'pattern') > 0, &
                            'scalar: update with another pattern is refused')
+    ! the same row lengths, one column moved on rank 0 only: refused on every rank
+    a3 = a
+    if (comm%rank == 0 .and. a3%n_rows > 0) a3%col(a3%row_ptr(2) - 1) = a3%col(a3%row_ptr(2) - 1) + 1
+    call amg%update(a3, st3)
+    call suite%assert_true(.not. st3%ok() .and. index(st3%msg, 'pattern') > 0, &
+                           'scalar: update with one column moved (same row lengths) is refused')
     call amg%free()
     call suite%assert_true(.not. amg%ij%is_ready() .and. amg%num_levels == 0, &
                            'scalar: free releases the hypre objects')
