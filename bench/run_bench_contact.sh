@@ -27,7 +27,8 @@
 # reordered_inner_cg solves S* by CG + BoomerAMG to 1e-10 (schur_solve =
 # 'inner_cg'), which shows the growth of the Schur approximation alone;
 # bubble_augmented_strong_amg and _inner_cg do the same for the augmented
-# preconditioner on the bubble space.
+# preconditioner on the bubble space (bubble_augmented_inner_cg_<x>: with
+# aug_scale = x).
 # Usage: bench/run_bench_contact.sh [levels] [ranks] [precons] [mixes] [mumps levels]
 set -u
 cd "$(dirname "$0")/.."
@@ -56,9 +57,10 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
     mumps)     solver="method = 'mumps', mumps_layout = 'distributed'"; contact="" ;;
     augmented) solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="block = 'augmented', stabilization = 'none', max_cuts = 0" ;;
-    bubble_augmented_inner_cg)
+    bubble_augmented_inner_cg*)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
-               contact="space = 'bubble', block = 'augmented', max_cuts = 0, schur_solve = 'inner_cg'" ;;
+               contact="space = 'bubble', block = 'augmented', max_cuts = 0, schur_solve = 'inner_cg'"
+               [ "$s" != bubble_augmented_inner_cg ] && contact="$contact, aug_scale = ${s#bubble_augmented_inner_cg_}" ;;
     bubble_augmented_strong_amg)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="space = 'bubble', block = 'augmented', max_cuts = 0" ;;
