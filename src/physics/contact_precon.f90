@@ -64,9 +64,11 @@
 !> cells, and from 112/63 and 80-199 to 24/15 and 28-43 on 2 m cells
 !> (contact alone: 28 and 25-34).
 !>
-!> K does not change during a run: its AMG (classical) and its global copy
-!> for the products are made once; the Schur parts are rebuilt at every
-!> Newton iteration, because C2 and the (t,t) block follow the statuses.
+!> K does not change during a run: its AMG (classical) is made once; the
+!> Schur parts are rebuilt at every Newton iteration (kept while every
+!> element sticks, &contact reuse), because C2 and the (t,t) block follow
+!> the statuses. S* itself is then refreshed in place (reordered_schur):
+!> no copy of K is kept, and no second S* is formed.
 module contact_precon
   use kinds, only: rp, ip, gp, name_len
   use parallel_comm, only: wall_time
