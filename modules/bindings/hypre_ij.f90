@@ -195,8 +195,8 @@ contains
     ! a new IJ matrix rather than new values into the assembled one: hypre
     ! looks every value's column up by a linear search of its row there,
     ! which made the refresh of HI24L's or the contact block's S* the
-    ! slower (contact n = 40, 2 ranks: the whole run 0.946x the wall time,
-    ! farm-bench pairs, median of 5; the same residuals)
+    ! slower (contact n = 40, 2 ranks: the whole run 0.90-0.95x the wall time,
+    ! farm-bench pairs, medians of 5 in two calls; the same residuals)
     ierr = HYPRE_IJMatrixDestroy(self%ij_a)
     self%ij_a = c_null_ptr
     self%par_a = c_null_ptr
