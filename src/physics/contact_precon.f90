@@ -284,10 +284,7 @@ contains
       end select
     end if
     ! a new S*: the old one and its preconditioner go first
-    if (allocated(self%bp%s(phys%bu)%p)) then
-      call self%bp%s(phys%bu)%p%free()
-      deallocate(self%bp%s(phys%bu)%p)
-    end if
+    call discard(self%bp%s(phys%bu)%p)
     call self%s%free()
     call from_csr(phys%sys%a(phys%bu, phys%bu), gk)
     call gcsr_add(1.0_rp, gk, 1.0_rp, prod, sum1)
@@ -556,12 +553,18 @@ contains
   !> Free the preconditioner in slot and move p in.
   subroutine replace(slot, p)
     class(precon_t), allocatable, intent(inout) :: slot, p
+    call discard(slot)
+    call move_alloc(p, slot)
+  end subroutine replace
+
+  !> Free the preconditioner in slot, if any, and leave the slot empty.
+  subroutine discard(slot)
+    class(precon_t), allocatable, intent(inout) :: slot
     if (allocated(slot)) then
       call slot%free()
       deallocate(slot)
     end if
-    call move_alloc(p, slot)
-  end subroutine replace
+  end subroutine discard
 
   !> As replace, wrapping p (a preconditioner of -A) as one of A.
   subroutine replace_negated(slot, p)
