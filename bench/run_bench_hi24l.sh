@@ -85,3 +85,4 @@ for r in $refines; do
 done
 echo "$summary" >> "$table"
 cat "$table"
+echo "table: $table"
