@@ -115,8 +115,8 @@ test: deps
 # times each script and writes one report: machine, date, commit, tables).
 # make bench (build/bench/REPORT.md): elasticity, Mandel with every block
 # preconditioner variant, the peers (PETSc, hypre MGR, MUMPS) on the same
-# systems, strong scaling, contact with every contact preconditioner on 5
-# levels, our aFSAI against hypre's FSAI.
+# systems, strong scaling, contact with the four contact preconditioners a
+# user runs on 5 levels, our aFSAI against hypre's FSAI.
 # make bench-large (build/bench/REPORT_large.md): the contact
 # preconditioners' diagnostics, the fluid in the fractures, the Treporti and
 # Reservoir stand-ins, HI24L up to the seed's size (16 GB of memory).
