@@ -2,8 +2,9 @@
 # Elasticity benchmark (issue 2): a cube clamped on x = 0 with a shear traction
 # on x = 1, refined n = 16, 32, 64 (14,739 / 107,811 / 823,875 unknowns), on 1
 # and 2 ranks: CG + BoomerAMG to 1e-8 (iterations, setup, solve) and MUMPS
-# (analysis + factorization + solve time, peak memory).
-# Usage: bench/run_bench.sh [sizes] [ranks] [solvers]   e.g. bench/run_bench.sh "16 32" "1 2" "amg mumps"
+# (analysis + factorization + solve time, peak memory); amg_w is CG + BoomerAMG
+# with W-cycles (&amg cycle_type = 'w', not in the default list).
+# Usage: bench/run_bench.sh [sizes] [ranks] [solvers]   e.g. bench/run_bench.sh "16 32" "1 2" "amg amg_w mumps"
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -24,8 +25,10 @@ for n in $sizes; do
         continue
       fi
       deck=$out/cube_${n}_${s}_np${np}.nml
+      amg_group=""
       case $s in
         amg)   solver="method = 'cg', precon = 'boomeramg', rtol = 1.0e-8" ;;
+        amg_w) solver="method = 'cg', precon = 'boomeramg', rtol = 1.0e-8"; amg_group=$'&amg\n  cycle_type = \'w\'\n/' ;;
         mumps) solver="method = 'mumps', mumps_layout = 'distributed'" ;;
       esac
       cat > "$deck" <<DECK
@@ -50,6 +53,7 @@ for n in $sizes; do
 &output
   dir = '$out/out_${n}_${s}_np${np}', fields = .false.
 /
+$amg_group
 DECK
       log=$out/cube_${n}_${s}_np${np}.log
       /usr/bin/time -v mpirun --oversubscribe -np "$np" bin/geoblock "$deck" > "$log" 2>&1

@@ -28,7 +28,9 @@
 # 'inner_cg'), which shows the growth of the Schur approximation alone;
 # bubble_augmented_strong_amg and _inner_cg do the same for the augmented
 # preconditioner on the bubble space (bubble_augmented_inner_cg_<x>: with
-# aug_scale = x).
+# aug_scale = x). <preconditioner>_wcycle (reordered_wcycle,
+# bubble_augmented_wcycle) runs it with BoomerAMG's W-cycle (&amg cycle_type
+# = 'w'; the elastic reference then uses it too).
 # By default (make bench) the four preconditioners a user runs, reordered,
 # classical, augmented and bubble_augmented; the diagnostic variants are run
 # by bench/run_bench_contact_diagnostics.sh (make bench-large).
@@ -66,14 +68,14 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="space = 'bubble', block = 'augmented', max_cuts = 0, schur_solve = 'inner_cg'"
                [ "$s" != bubble_augmented_inner_cg ] && contact="$contact, aug_scale = ${s#bubble_augmented_inner_cg_}" ;;
-    bubble_augmented_strong_amg)
+    bubble_augmented_strong_amg|bubble_augmented_wcycle)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="space = 'bubble', block = 'augmented', max_cuts = 0" ;;
     bubble_augmented*)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="space = 'bubble', block = 'augmented', max_cuts = 0, aug_scale = ${s#bubble_augmented_}"
                [ "$s" = bubble_augmented ] && contact="space = 'bubble', block = 'augmented', max_cuts = 0" ;;
-    reordered_strong_amg)
+    reordered_strong_amg|reordered_wcycle)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."; contact="block = 'reordered'" ;;
     reordered_inner_cg)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
@@ -89,7 +91,10 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
       -e "s#dir = 'out'#dir = '$out/$name'#" \
       tests/decks/contact_block.nml > "$out/$name.nml"
   [ -n "$contact" ] && printf "&contact\n  %s\n/\n" "$contact" >> "$out/$name.nml"
-  case $s in *_strong_amg) printf "&amg\n  agg_num_levels = 0, num_sweeps = 2\n/\n" >> "$out/$name.nml" ;; esac
+  case $s in
+    *_strong_amg) printf "&amg\n  agg_num_levels = 0, num_sweeps = 2\n/\n" >> "$out/$name.nml" ;;
+    *_wcycle)     printf "&amg\n  cycle_type = 'w'\n/\n" >> "$out/$name.nml" ;;
+  esac
   mpirun -np "$np" bin/geoblock "$out/$name.nml" > "$out/$name.log" 2>&1 < /dev/null
 }
 

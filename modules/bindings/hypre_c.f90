@@ -48,7 +48,7 @@ module hypre_c
   public :: HYPRE_BoomerAMGSetStrongThreshold, HYPRE_BoomerAMGSetMaxRowSum
   public :: HYPRE_BoomerAMGSetMaxLevels, HYPRE_BoomerAMGSetMaxCoarseSize
   public :: HYPRE_BoomerAMGSetRelaxType, HYPRE_BoomerAMGSetCycleRelaxType
-  public :: HYPRE_BoomerAMGSetNumSweeps, HYPRE_BoomerAMGSetRelaxWt
+  public :: HYPRE_BoomerAMGSetNumSweeps, HYPRE_BoomerAMGSetRelaxWt, HYPRE_BoomerAMGSetCycleType
   public :: HYPRE_BoomerAMGSetTruncFactor, HYPRE_BoomerAMGSetPMaxElmts
   public :: HYPRE_FSAICreate, HYPRE_FSAIDestroy, HYPRE_FSAISetup, HYPRE_FSAISolve
   public :: HYPRE_FSAISetAlgoType, HYPRE_FSAISetMaxSteps, HYPRE_FSAISetMaxStepSize
@@ -524,6 +524,16 @@ module hypre_c
       integer(hypre_int), value :: relax_type, k
       integer(hypre_int) :: ierr
     end function HYPRE_BoomerAMGSetCycleRelaxType
+
+    !> HYPRE_Int HYPRE_BoomerAMGSetCycleType(HYPRE_Solver solver, HYPRE_Int cycle_type)
+    !> (1 V-cycle, 2 W-cycle)
+    function HYPRE_BoomerAMGSetCycleType(solver, cycle_type) &
+        bind(C, name='HYPRE_BoomerAMGSetCycleType') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: cycle_type
+      integer(hypre_int) :: ierr
+    end function HYPRE_BoomerAMGSetCycleType
 
     !> HYPRE_Int HYPRE_BoomerAMGSetNumSweeps(HYPRE_Solver solver, HYPRE_Int num_sweeps)
     function HYPRE_BoomerAMGSetNumSweeps(solver, num_sweeps) &

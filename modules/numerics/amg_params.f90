@@ -15,6 +15,7 @@
 !>                     l1-jacobi 18/18; the coarsest level is always solved
 !>                     by Gaussian elimination (9). Every pair is symmetric, so
 !>                     the V-cycle is a symmetric preconditioner fit for PCG.
+!>   cycle_type      : v 1, w 2 (hypre's cycle types; both symmetric, fit for PCG)
 !>   nodal           : 0 unknown approach (coarsen each function alone);
 !>                     1 Frobenius, 2 sum of |a|, 3 largest entry, 4 row sum,
 !>                     6 sum of entries of each nodal block
@@ -42,6 +43,15 @@
 !>                               complexity 1.45 instead of 1.33 and ~30% more
 !>                               solve time, 0.25 took 25, 29, 31.
 !>   l1-gs, 1 sweep            : hypre's default smoother, robust in parallel.
+!>   V-cycle                   : the W-cycle visits the coarse levels 2^l times
+!>                               and keeps the counts flat where the V-cycle's
+!>                               grow: CG on the benchmark cube (2 ranks, the
+!>                               other defaults) at 15k, 108k, 824k unknowns
+!>                               took 19, 19, 19 iterations against 21, 22, 26,
+!>                               but 11.2 s to solve at 824k against 6.9 s (2.2x
+!>                               per iteration; 2026-11-27). hypre's manual
+!>                               advises against it at scale (the coarse levels'
+!>                               communication), so it is an option.
 !>   no interpolation vectors  : the six rigid-body modes in the interpolation
 !>                               (interp_vec_variant 1 or 2, hypre's GM, with
 !>                               nodal coarsening) did not beat the unknown
@@ -81,6 +91,7 @@ module amg_params
     integer :: max_coarse_size = 9                    !< rows of the coarsest level
     character(len=name_len) :: relax_type = 'l1-gs'
     integer :: num_sweeps = 1                         !< smoothing sweeps down and up
+    character(len=name_len) :: cycle_type = 'v'       !< 'v' or 'w'
     real(rp) :: relax_wt = 1.0_rp                     !< weight of Jacobi / SOR smoothers
     integer :: print_level = 0                        !< hypre's own output: 0 none .. 3
     !> interpolation of the near-null space the caller gives (rigid-body
@@ -94,6 +105,7 @@ module amg_params
     procedure :: interp_id
     procedure :: agg_interp_id
     procedure :: relax_ids
+    procedure :: cycle_id
     procedure :: scalar
   end type amg_params_t
 
@@ -102,6 +114,7 @@ module amg_params
     'classical, direct, multipass, ext+i, standard, ff1, ext, ext-mm, ext+i-mm, ext+e-mm'
   character(len=*), parameter :: agg_interp_names = &
     '2s-ext+i, 2s-standard, 2s-ext, multipass, 2s-ext-mm, 2s-ext+i-mm, 2s-ext+e-mm'
+  character(len=*), parameter :: cycle_names = 'v, w'
   character(len=*), parameter :: relax_names = &
     'jacobi, hybrid-gs, hybrid-sgs, l1-sgs, l1-gs, chebyshev, l1-jacobi'
 
@@ -167,6 +180,8 @@ contains
       call bad_int('max_coarse_size', self%max_coarse_size, 'a positive integer')
     else if (.not. relax_known()) then
       call bad_name('relax_type', self%relax_type, relax_names)
+    else if (self%cycle_id() < 0) then
+      call bad_name('cycle_type', self%cycle_type, cycle_names)
     else if (self%num_sweeps < 1 .or. self%num_sweeps > 20) then
       call bad_int('num_sweeps', self%num_sweeps, 'an integer in 1..20')
     else if (.not. (self%relax_wt > 0.0_rp .and. self%relax_wt < 2.0_rp)) then
@@ -208,7 +223,7 @@ contains
   subroutine to_lines(self, lines)
     class(amg_params_t), intent(in) :: self
     character(len=amg_line_len), allocatable, intent(out) :: lines(:)
-    allocate(lines(18))
+    allocate(lines(21))
     lines(1) = int_line('num_functions', self%num_functions)
     lines(2) = int_line('nodal', self%nodal)
     lines(3) = 'coarsen_type = '//trim(self%coarsen_type)
@@ -227,6 +242,9 @@ contains
     lines(16) = int_line('num_sweeps', self%num_sweeps)
     lines(17) = 'relax_wt = '//real_text(self%relax_wt)
     lines(18) = int_line('print_level', self%print_level)
+    lines(19) = 'cycle_type = '//trim(self%cycle_type)
+    lines(20) = int_line('interp_vec_variant', self%interp_vec_variant)
+    lines(21) = int_line('interp_vec_qmax', self%interp_vec_qmax)
   end subroutine to_lines
 
   !> hypre id of coarsen_type, or -1 when the name is unknown.
@@ -274,6 +292,16 @@ contains
     case default;         agg_interp_id = -1
     end select
   end function agg_interp_id
+
+  !> hypre id of cycle_type (1 V, 2 W), or -1 when the name is unknown.
+  integer function cycle_id(self)
+    class(amg_params_t), intent(in) :: self
+    select case (lower(self%cycle_type))
+    case ('v');    cycle_id = 1
+    case ('w');    cycle_id = 2
+    case default;  cycle_id = -1
+    end select
+  end function cycle_id
 
   !> hypre ids of the down- and up-cycle smoothers of relax_type, or -1 and
   !> -1 when the name is unknown.

@@ -29,7 +29,7 @@ module boomeramg_precon
     HYPRE_BoomerAMGSetStrongThreshold, HYPRE_BoomerAMGSetMaxRowSum, &
     HYPRE_BoomerAMGSetMaxLevels, HYPRE_BoomerAMGSetMaxCoarseSize, &
     HYPRE_BoomerAMGSetRelaxType, HYPRE_BoomerAMGSetCycleRelaxType, &
-    HYPRE_BoomerAMGSetNumSweeps, HYPRE_BoomerAMGSetRelaxWt, &
+    HYPRE_BoomerAMGSetNumSweeps, HYPRE_BoomerAMGSetRelaxWt, HYPRE_BoomerAMGSetCycleType, &
     HYPRE_BoomerAMGSetTruncFactor, HYPRE_BoomerAMGSetPMaxElmts, HYPRE_BoomerAMGSetInterpVectors, &
     HYPRE_BoomerAMGSetInterpVecVariant, HYPRE_BoomerAMGSetInterpVecQMax, HYPRE_IJVectorDestroy
   implicit none
@@ -264,6 +264,7 @@ contains
     ierr = HYPRE_BoomerAMGSetCycleRelaxType(solver, 9_hypre_int, 3_hypre_int)
     ierr = HYPRE_BoomerAMGSetNumSweeps(solver, int(p%num_sweeps, hypre_int))
     ierr = HYPRE_BoomerAMGSetRelaxWt(solver, p%relax_wt)
+    ierr = HYPRE_BoomerAMGSetCycleType(solver, int(p%cycle_id(), hypre_int))
   end subroutine amg_configure
 
   !> Destroy the IJ vectors of the near-null space (after the solver).

@@ -4,7 +4,8 @@
 !>   num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor,
 !>   agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths,
 !>   strong_threshold, max_row_sum, max_levels, max_coarse_size, relax_type,
-!>   num_sweeps, relax_wt, print_level
+!>   num_sweeps, relax_wt, print_level, cycle_type, interp_vec_variant,
+!>   interp_vec_qmax
 module amg_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -27,7 +28,7 @@ contains
     type(error_status_t), intent(inout) :: status
     integer :: num_functions, nodal, p_max_elmts, agg_num_levels, agg_p_max_elmts, num_paths, &
                max_levels, max_coarse_size, num_sweeps, print_level, interp_vec_variant, interp_vec_qmax, ios
-    character(len=name_len) :: coarsen_type, interp_type, agg_interp_type, relax_type
+    character(len=name_len) :: coarsen_type, interp_type, agg_interp_type, relax_type, cycle_type
     real(rp) :: trunc_factor, strong_threshold, max_row_sum, relax_wt
     type(error_status_t) :: vstat
     character(len=msg_len) :: msg
@@ -35,7 +36,7 @@ contains
     namelist /amg/ num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor, &
                    agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths, strong_threshold, &
                    max_row_sum, max_levels, max_coarse_size, relax_type, num_sweeps, relax_wt, print_level, &
-                   interp_vec_variant, interp_vec_qmax
+                   interp_vec_variant, interp_vec_qmax, cycle_type
 
     num_functions = params%num_functions; nodal = params%nodal; coarsen_type = params%coarsen_type
     interp_type = params%interp_type; p_max_elmts = params%p_max_elmts; trunc_factor = params%trunc_factor
@@ -45,6 +46,7 @@ contains
     max_levels = params%max_levels; max_coarse_size = params%max_coarse_size; relax_type = params%relax_type
     num_sweeps = params%num_sweeps; relax_wt = params%relax_wt; print_level = params%print_level
     interp_vec_variant = params%interp_vec_variant; interp_vec_qmax = params%interp_vec_qmax
+    cycle_type = params%cycle_type
     if (d%count('amg') > 0) then
       call d%block('amg', 1, b)
       read(b, nml=amg, iostat=ios, iomsg=msg)
@@ -59,7 +61,7 @@ contains
       num_paths=num_paths, strong_threshold=strong_threshold, max_row_sum=max_row_sum, &
       max_levels=max_levels, max_coarse_size=max_coarse_size, relax_type=relax_type, &
       num_sweeps=num_sweeps, relax_wt=relax_wt, print_level=print_level, &
-      interp_vec_variant=interp_vec_variant, interp_vec_qmax=interp_vec_qmax)
+      interp_vec_variant=interp_vec_variant, interp_vec_qmax=interp_vec_qmax, cycle_type=cycle_type)
     call params%validate(vstat)
     if (.not. vstat%ok()) then
       write(msg, '(a,i0,a)') "deck '"//trim(d%path)//"', group &amg (line ", d%first_line('amg', 1), "): "// &
@@ -92,5 +94,9 @@ contains
     call g%add('num_sweeps', params%num_sweeps, '-', 'smoothing sweeps down and up')
     call g%add('relax_wt', params%relax_wt, '-', 'weight of Jacobi / SOR smoothers')
     call g%add('print_level', params%print_level, '-', "hypre's own output: 0 none .. 3")
+    call g%add('cycle_type', params%cycle_type, '-', "'v' or 'w'")
+    call g%add('interp_vec_variant', params%interp_vec_variant, '-', &
+               'rigid-body modes in the interpolation: 0 none, 1, 2 GM, 3 LN')
+    call g%add('interp_vec_qmax', params%interp_vec_qmax, '-', 'entries per row of the added columns (0: all)')
   end subroutine describe_amg_config
 end module amg_config
