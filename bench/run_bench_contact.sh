@@ -30,7 +30,8 @@
 # preconditioner on the bubble space (bubble_augmented_inner_cg_<x>: with
 # aug_scale = x). <preconditioner>_wcycle (reordered_wcycle,
 # bubble_augmented_wcycle) runs it with BoomerAMG's W-cycle (&amg cycle_type
-# = 'w'; the elastic reference then uses it too).
+# = 'w'; the elastic reference then uses it too), <preconditioner>_w3 with
+# W(3,3) cycles (cycle_type = 'w', num_sweeps = 3).
 # By default (make bench) the four preconditioners a user runs, reordered,
 # classical, augmented and bubble_augmented; the diagnostic variants are run
 # by bench/run_bench_contact_diagnostics.sh (make bench-large).
@@ -68,14 +69,14 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="space = 'bubble', block = 'augmented', max_cuts = 0, schur_solve = 'inner_cg'"
                [ "$s" != bubble_augmented_inner_cg ] && contact="$contact, aug_scale = ${s#bubble_augmented_inner_cg_}" ;;
-    bubble_augmented_strong_amg|bubble_augmented_wcycle)
+    bubble_augmented_strong_amg|bubble_augmented_wcycle|bubble_augmented_w3)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="space = 'bubble', block = 'augmented', max_cuts = 0" ;;
     bubble_augmented*)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="space = 'bubble', block = 'augmented', max_cuts = 0, aug_scale = ${s#bubble_augmented_}"
                [ "$s" = bubble_augmented ] && contact="space = 'bubble', block = 'augmented', max_cuts = 0" ;;
-    reordered_strong_amg|reordered_wcycle)
+    reordered_strong_amg|reordered_wcycle|reordered_w3)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."; contact="block = 'reordered'" ;;
     reordered_inner_cg)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
@@ -94,6 +95,7 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
   case $s in
     *_strong_amg) printf "&amg\n  agg_num_levels = 0, num_sweeps = 2\n/\n" >> "$out/$name.nml" ;;
     *_wcycle)     printf "&amg\n  cycle_type = 'w'\n/\n" >> "$out/$name.nml" ;;
+    *_w3)         printf "&amg\n  cycle_type = 'w', num_sweeps = 3\n/\n" >> "$out/$name.nml" ;;
   esac
   mpirun -np "$np" bin/geoblock "$out/$name.nml" > "$out/$name.log" 2>&1 < /dev/null
 }
