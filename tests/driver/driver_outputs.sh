@@ -24,7 +24,7 @@ if r=$($PY tests/driver/check_oedometer.py "$out/gmsh" gmsh_block 2>&1); then ok
 [ -f "$out/gmsh/gmsh_block_0000.h5" ] && [ -f "$out/gmsh/gmsh_block_mesh.h5" ] && ok "HDF5 mesh and step files" \
   || ko "HDF5 files missing"
 log="$out/gmsh/gmsh_block.log"
-if [ -f "$log" ] && grep -q "strong_threshold = 0.5 \[-\]" "$log" && grep -q "young *= .*\[Pa\]" "$log" && grep -q "^step 1/1" "$log" \
+if [ -f "$log" ] && grep -q "strong_threshold *= 0.5 \[-\]" "$log" && grep -q "young *= .*\[Pa\]" "$log" && grep -q "^step 1/1" "$log" \
    && grep -q "timing summary" "$log" \
    && grep -Eq "^peak resident memory: [1-9][0-9]* MB on the largest rank, [1-9][0-9]* MB over all ranks$" "$log"; then
   ok "log file has the deck echo, the progress line, the timing summary and the peak memory"
