@@ -31,7 +31,8 @@
 # aug_scale = x). <preconditioner>_wcycle (reordered_wcycle,
 # bubble_augmented_wcycle) runs it with BoomerAMG's W-cycle (&amg cycle_type
 # = 'w'; the elastic reference then uses it too), <preconditioner>_w3 with
-# W(3,3) cycles (cycle_type = 'w', num_sweeps = 3).
+# W(3,3) cycles (cycle_type = 'w', num_sweeps = 3); <preconditioner>_pcg
+# applies S* by 2 CG steps with BoomerAMG (&contact schur_solve = 'pcg').
 # By default (make bench) the four preconditioners a user runs, reordered,
 # classical, augmented and bubble_augmented; the diagnostic variants are run
 # by bench/run_bench_contact_diagnostics.sh (make bench-large).
@@ -69,6 +70,12 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="space = 'bubble', block = 'augmented', max_cuts = 0, schur_solve = 'inner_cg'"
                [ "$s" != bubble_augmented_inner_cg ] && contact="$contact, aug_scale = ${s#bubble_augmented_inner_cg_}" ;;
+    bubble_augmented_pcg)
+               solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
+               contact="space = 'bubble', block = 'augmented', max_cuts = 0, schur_solve = 'pcg'" ;;
+    reordered_pcg)
+               solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
+               contact="block = 'reordered', schur_solve = 'pcg'" ;;
     bubble_augmented_strong_amg|bubble_augmented_wcycle|bubble_augmented_w3)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="space = 'bubble', block = 'augmented', max_cuts = 0" ;;

@@ -4,8 +4,17 @@
 !> inner preconditioner separates the error of a Schur-complement
 !> approximation from that of its multigrid. The result is a nonlinear
 !> function of r, so the outer method must be flexible (FGMRES).
+!>
+!> With steps > 0 (init_steps) it is instead a fixed number of PCG steps
+!> from zero, with no residual check: a stronger preconditioner than one
+!> cycle of the inner one (steps cycles and steps products with A), still
+!> cheap, whose error does not grow with the mesh as one cycle's may (the
+!> idea of the K-cycle: Notay, Vassilevski, Numer. Linear Algebra Appl. 15
+!> (2008) 473, who put the Krylov steps on the coarse levels; here they
+!> are around the whole cycle).
 module inner_cg_precon
   use kinds, only: rp, name_len
+  use dist_vector, only: pdot
   use error_status, only: error_status_t
   use csr_matrix, only: csr_matrix_t
   use precon, only: precon_t
@@ -21,9 +30,11 @@ module inner_cg_precon
     class(precon_t), allocatable :: inner         !< preconditioner of the inner CG
     type(cg_t) :: solver
     integer :: iterations = 0                     !< inner CG iterations, summed over applications
+    integer :: steps = 0                          !< > 0: that many PCG steps, no tolerance
     integer :: applications = 0
   contains
     procedure :: init => inner_cg_init
+    procedure :: init_steps => inner_cg_init_steps
     procedure :: apply => inner_cg_apply
     procedure :: name => inner_cg_name
     procedure :: free => inner_cg_free
@@ -40,18 +51,83 @@ contains
     real(rp), intent(in) :: rtol
     integer, intent(in) :: max_iter
     type(error_status_t), intent(inout) :: status
+    call attach(self, a, inner)
+    call self%solver%init(a%row_map%comm, rtol, 0.0_rp, max_iter, status)
+  end subroutine inner_cg_init
+
+  !> steps (>= 1) PCG steps with a (pointed to) and inner (moved in, set up
+  !> on a) from zero at every application.
+  subroutine inner_cg_init_steps(self, a, inner, steps)
+    class(inner_cg_precon_t), intent(inout) :: self
+    type(csr_matrix_t), target, intent(in) :: a
+    class(precon_t), allocatable, intent(inout) :: inner
+    integer, intent(in) :: steps
+    call attach(self, a, inner)
+    self%steps = max(steps, 1)
+  end subroutine inner_cg_init_steps
+
+  !> A fresh start on a (pointed to) with inner (moved in).
+  subroutine attach(self, a, inner)
+    class(inner_cg_precon_t), intent(inout) :: self
+    type(csr_matrix_t), target, intent(in) :: a
+    class(precon_t), allocatable, intent(inout) :: inner
     call self%free()
     self%a => a
     call move_alloc(inner, self%inner)
     self%setup_time = self%inner%setup_time
-    call self%solver%init(a%row_map%comm, rtol, 0.0_rp, max_iter, status)
-  end subroutine inner_cg_init
+  end subroutine attach
+
+  !> z = steps PCG steps on A z = r from z = 0: steps applications of the
+  !> inner preconditioner and products with A, two reductions a step. A
+  !> breakdown (r^T M r or p^T A p not positive: M or A not SPD) ends the
+  !> steps with what was made (the first: z = M r, one cycle).
+  subroutine apply_steps(self, r, z)
+    class(inner_cg_precon_t), intent(inout) :: self
+    real(rp), intent(in) :: r(:)
+    real(rp), intent(out) :: z(:)
+    real(rp), allocatable :: res(:), w(:), p(:), q(:)
+    real(rp) :: rz, rz_old, pq, alpha
+    integer :: k
+    allocate(res(size(r)), w(size(r)), p(size(r)), q(size(r)))
+    res = r
+    z = 0.0_rp
+    rz_old = 1.0_rp
+    do k = 1, self%steps
+      call self%inner%apply(res, w)
+      rz = pdot(self%a%row_map%comm, res, w)
+      if (.not. (rz > 0.0_rp)) then
+        if (k == 1) z = w
+        exit
+      end if
+      if (k == 1) then
+        p = w
+      else
+        p = w + (rz / rz_old) * p
+      end if
+      call self%a%apply(p, q)
+      pq = pdot(self%a%row_map%comm, p, q)
+      if (.not. (pq > 0.0_rp)) then
+        if (k == 1) z = w
+        exit
+      end if
+      alpha = rz / pq
+      z = z + alpha * p
+      if (k < self%steps) res = res - alpha * q
+      rz_old = rz
+      self%iterations = self%iterations + 1
+    end do
+  end subroutine apply_steps
 
   subroutine inner_cg_apply(self, r, z)
     class(inner_cg_precon_t), intent(inout) :: self
     real(rp), intent(in) :: r(:)
     real(rp), intent(out) :: z(:)
     type(solve_info_t) :: info
+    if (self%steps > 0) then
+      call apply_steps(self, r, z)
+      self%applications = self%applications + 1
+      return
+    end if
     z = 0.0_rp
     call self%solver%solve(self%a, self%inner, r, z, info)
     self%iterations = self%iterations + info%iterations
@@ -61,7 +137,11 @@ contains
   function inner_cg_name(self) result(s)
     class(inner_cg_precon_t), intent(in) :: self
     character(len=name_len) :: s
-    s = 'inner CG + '//trim(self%inner%name())
+    if (self%steps > 0) then
+      write(s, '(a,i0,a)') 'PCG (', self%steps, ' steps) + '//trim(self%inner%name())
+    else
+      s = 'inner CG + '//trim(self%inner%name())
+    end if
   end function inner_cg_name
 
   subroutine inner_cg_free(self)
@@ -73,6 +153,7 @@ contains
     self%a => null()
     self%iterations = 0
     self%applications = 0
+    self%steps = 0
     self%setup_time = 0.0_rp
   end subroutine inner_cg_free
 end module inner_cg_precon

@@ -21,9 +21,13 @@
 !>   schur_precon   classical: 'boomeramg' or 'jacobi' for -S        ['boomeramg']
 !>   aug_scale      scale of the regular diagonal H~ (and D), > 0          [1]
 !>   schur_solve    reordered, augmented: how S* is applied: 'vcycle' (one
-!>                  BoomerAMG V-cycle) or 'inner_cg' (CG + BoomerAMG to 1e-10,
-!>                  a near-exact solve: a diagnostic that separates the Schur
-!>                  approximation from the AMG; slow)                 ['vcycle']
+!>                  BoomerAMG cycle), 'pcg' (schur_its steps of CG with
+!>                  BoomerAMG from zero: a stronger, flexible preconditioner
+!>                  whose counts grow less with the mesh) or 'inner_cg' (CG +
+!>                  BoomerAMG to 1e-10, a near-exact solve: a diagnostic that
+!>                  separates the Schur approximation from the AMG; slow)
+!>                                                                    ['vcycle']
+!>   schur_its      schur_solve = 'pcg': CG steps per application, 1..50  [2]
 !>   max_newton     Newton / active-set iterations per load step, >= 1     [30]
 !>   newton_tol     relative size of the last Newton update of u and t, > 0 [1e-6]
 !>   status_tol     relative tolerance of the status checks (tractions against
@@ -55,6 +59,7 @@ module contact_config
     character(len=name_len) :: schur_precon = 'boomeramg'
     real(rp) :: aug_scale = 1.0_rp
     character(len=name_len) :: schur_solve = 'vcycle'
+    integer :: schur_its = 2
     integer :: max_newton = 30
     real(rp) :: newton_tol = 1.0e-6_rp
     real(rp) :: status_tol = 1.0e-6_rp
@@ -75,18 +80,18 @@ contains
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: space, stabilization, block, schur_precon, schur_solve
     real(rp) :: aug_scale, newton_tol, status_tol
-    integer :: max_newton, max_cuts, ios
+    integer :: max_newton, max_cuts, schur_its, ios
     logical :: reuse
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
-    namelist /contact/ space, stabilization, block, schur_precon, aug_scale, schur_solve, max_newton, newton_tol, &
-                       status_tol, max_cuts, reuse
+    namelist /contact/ space, stabilization, block, schur_precon, aug_scale, schur_solve, schur_its, max_newton, &
+                       newton_tol, status_tol, max_cuts, reuse
 
     ! stabilization and block: '' until the deck sets them (their defaults
     ! follow the space)
     space = self%space; stabilization = ''; block = ''; schur_precon = self%schur_precon
     aug_scale = self%aug_scale; schur_solve = self%schur_solve; max_newton = self%max_newton; newton_tol = self%newton_tol
-    status_tol = self%status_tol; max_cuts = self%max_cuts; reuse = self%reuse
+    status_tol = self%status_tol; max_cuts = self%max_cuts; reuse = self%reuse; schur_its = self%schur_its
     if (d%count('contact') > 0) then
       call d%block('contact', 1, b)
       read(b, nml=contact, iostat=ios, iomsg=msg)
@@ -108,10 +113,12 @@ contains
       'contact', 1, 'block', "must be 'reordered', 'classical' or 'augmented' (got '"//trim(block)//"')")
     if (schur_precon /= 'boomeramg' .and. schur_precon /= 'jacobi') call d%fail(status, 'contact', 1, &
       'schur_precon', "must be 'boomeramg' or 'jacobi' (got '"//trim(schur_precon)//"')")
-    if (schur_solve /= 'vcycle' .and. schur_solve /= 'inner_cg') call d%fail(status, 'contact', 1, &
-      'schur_solve', "must be 'vcycle' or 'inner_cg' (got '"//trim(schur_solve)//"')")
-    if (schur_solve == 'inner_cg' .and. block == 'classical') call d%fail(status, 'contact', 1, 'schur_solve', &
-      "'inner_cg' applies to S* of block = 'reordered' or 'augmented', not to 'classical'")
+    if (schur_solve /= 'vcycle' .and. schur_solve /= 'pcg' .and. schur_solve /= 'inner_cg') call d%fail(status, &
+      'contact', 1, 'schur_solve', "must be 'vcycle', 'pcg' or 'inner_cg' (got '"//trim(schur_solve)//"')")
+    if (schur_solve /= 'vcycle' .and. block == 'classical') call d%fail(status, 'contact', 1, 'schur_solve', &
+      "'"//trim(schur_solve)//"' applies to S* of block = 'reordered' or 'augmented', not to 'classical'")
+    if (schur_its < 1 .or. schur_its > 50) call d%fail(status, 'contact', 1, 'schur_its', &
+      'must lie in 1..50 (got '//itoa(schur_its)//')')
     if (.not. (aug_scale > 0.0_rp)) call d%fail(status, 'contact', 1, 'aug_scale', &
       'must be > 0 (got '//rtoa(aug_scale)//')')
     if (max_newton < 1) call d%fail(status, 'contact', 1, 'max_newton', 'must be >= 1 (got '//itoa(max_newton)//')')
@@ -123,7 +130,7 @@ contains
     if (.not. status%ok()) return
     self%space = space; self%stabilization = stabilization; self%block = block; self%schur_precon = schur_precon
     self%aug_scale = aug_scale; self%schur_solve = schur_solve; self%max_newton = max_newton; self%newton_tol = newton_tol
-    self%status_tol = status_tol; self%max_cuts = max_cuts; self%reuse = reuse
+    self%status_tol = status_tol; self%max_cuts = max_cuts; self%reuse = reuse; self%schur_its = schur_its
   end subroutine read_contact_config
 
   !> The resolved &contact group.
@@ -136,7 +143,8 @@ contains
     call g%add('block', self%block, '-', "(u, t) preconditioner: 'reordered', 'classical' or 'augmented'")
     call g%add('schur_precon', self%schur_precon, '-', "classical: 'boomeramg' or 'jacobi' for -S")
     call g%add('aug_scale', self%aug_scale, '-', 'scale of the regular diagonal H~ (and D)')
-    call g%add('schur_solve', self%schur_solve, '-', "how S* is applied: 'vcycle' or 'inner_cg'")
+    call g%add('schur_solve', self%schur_solve, '-', "how S* is applied: 'vcycle', 'pcg' or 'inner_cg'")
+    call g%add('schur_its', self%schur_its, '-', "schur_solve = 'pcg': CG steps per application")
     call g%add('max_newton', self%max_newton, '-', 'Newton / active-set iterations per load step')
     call g%add('newton_tol', self%newton_tol, '-', 'relative size of the last Newton update')
     call g%add('status_tol', self%status_tol, '-', 'relative tolerance of the status checks')

@@ -10,8 +10,9 @@
 !>              (exact), S_2 = BoomerAMG(S*), S* = K + C1 H~^-1 C2, a
 !>              stiffness-like matrix on which elasticity AMG works; the
 !>              factors are implicit (C2 and C1 times S_1^-1), so A*^-1 is
-!>              applied up to the AMG (schur_solve = 'inner_cg': up to an
-!>              inner CG to 1e-10, the diagnostic of an exact S*);
+!>              applied up to the AMG (schur_solve = 'pcg': a few CG steps
+!>              with the AMG; 'inner_cg': up to an inner CG to 1e-10, the
+!>              diagnostic of an exact S*);
 !>   augmented  the same with H~ = D, the augmentation diagonal (the row
 !>              scales s of contact), for the unstabilized saddle point:
 !>              built on A* = [-D C2; C1 K] and applied to the Jacobian. It
@@ -281,6 +282,18 @@ contains
           self%t_sprec = q%setup_time
           return
         end if
+      type is (inner_cg_precon_t)
+        ! 'pcg', 'inner_cg': the same for the AMG inside (q points to S*)
+        select type (qa => q%inner)
+        type is (boomeramg_precon_t)
+          if (refreshed(self, phys, mesh, prod, corr)) then
+            self%t_smat = wall_time() - t0
+            call qa%update(self%s, status)
+            self%t_sprec = qa%setup_time
+            q%setup_time = qa%setup_time
+            return
+          end if
+        end select
       end select
     end if
     ! a new S*: the old one and its preconditioner go first
@@ -308,11 +321,15 @@ contains
     if (.not. status%ok()) return
     self%t_sprec = p%setup_time
     self%sprec_name = p%name()
-    if (ccfg%schur_solve == 'inner_cg') then
+    if (ccfg%schur_solve == 'inner_cg' .or. ccfg%schur_solve == 'pcg') then
       allocate(inner_cg_precon_t :: w)
       select type (w)
       type is (inner_cg_precon_t)
-        call w%init(self%s, p, inner_rtol, inner_max_iter, status)
+        if (ccfg%schur_solve == 'pcg') then
+          call w%init_steps(self%s, p, ccfg%schur_its)
+        else
+          call w%init(self%s, p, inner_rtol, inner_max_iter, status)
+        end if
       end select
       call move_alloc(w, p)
     end if

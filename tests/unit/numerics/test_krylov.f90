@@ -164,6 +164,9 @@ program test_krylov
   use jacobi_precon, only: jacobi_precon_t
   use dist_vector, only: pnorm2
   use assertions, only: test_suite_t
+  use precon, only: precon_t
+  use inner_cg_precon, only: steps_precon_t => inner_cg_precon_t
+  use strings, only: itoa
   use krylov_test_precons, only: inner_cg_precon_t, nan_precon_t, zero_precon_t, rotation_op_t, &
                                  diagonal_op_t
   implicit none
@@ -193,6 +196,7 @@ program test_krylov
   call check_unsymmetric()
   call check_restart_and_limits()
   call check_flexible()
+  call check_fixed_steps()
   call check_failures()
   call check_breakdowns()
   call suite%finish()
@@ -585,13 +589,7 @@ contains
     ! the same r twice gives two different z
     call var%apply(p%b, z1)
     call var%apply(p%b, z2)
-    diff = 0.0_rp
-    scale = 0.0_rp
-    if (size(z1) > 0) then
-      diff = maxval(abs(z1 - z2))
-      scale = maxval(abs(z1))
-    end if
-    call suite%assert_true(comm%max(diff) > 1.0e-3_rp * comm%max(scale), &
+    call suite%assert_true(max_rel_diff(z2, z1) > 1.0e-3_rp, &
                            'the variable preconditioner changes from call to call')
 
     call gm%init(comm, rtol=rtol, atol=0.0_rp, max_iter=500, restart=30)
@@ -608,6 +606,70 @@ contains
     call jac%free()
     call free_problem(p)
   end subroutine check_flexible
+
+  !> max |a - b| / max |b| over all ranks (0 when b is 0 everywhere).
+  real(rp) function max_rel_diff(a, b)
+    real(rp), intent(in) :: a(:), b(:)
+    real(rp) :: diff, scale
+    diff = 0.0_rp
+    scale = 0.0_rp
+    if (size(b) > 0) then
+      diff = maxval(abs(a - b))
+      scale = maxval(abs(b))
+    end if
+    diff = comm%max(diff)
+    scale = comm%max(scale)
+    max_rel_diff = 0.0_rp
+    if (scale > 0.0_rp) max_rel_diff = diff / scale
+  end function max_rel_diff
+
+  !> inner_cg_precon with a fixed number of steps (contact's schur_solve =
+  !> 'pcg'): k steps from zero are CG's first k iterations (cg_t with
+  !> max_iter = k and no tolerance), for k = 1, 3, 8; more steps, a smaller
+  !> error in the energy norm.
+  subroutine check_fixed_steps()
+    type(problem_t), target :: p
+    type(steps_precon_t) :: sp
+    class(precon_t), allocatable :: jac
+    type(jacobi_precon_t) :: jac2
+    type(cg_t) :: cg_solver
+    type(solve_info_t) :: info
+    type(error_status_t) :: status
+    real(rp), allocatable :: z(:), x(:), e(:), ae(:)
+    real(rp) :: energy, last_energy
+    integer :: i, k
+    integer, parameter :: ks(3) = [1, 3, 8]
+
+    call build_problem(p, n_side, .false., 0.0_rp, .true.)
+    call jac2%setup(p%a, status)
+    allocate(z(size(p%b)), x(size(p%b)), e(size(p%b)), ae(size(p%b)))
+    last_energy = huge(1.0_rp)
+    do i = 1, size(ks)
+      k = ks(i)
+      allocate(jacobi_precon_t :: jac)
+      select type (jac)
+      type is (jacobi_precon_t)
+        call jac%setup(p%a, status)
+      end select
+      call sp%init_steps(p%a, jac, k)
+      call sp%apply(p%b, z)
+      call cg_solver%init(comm, rtol=0.0_rp, atol=0.0_rp, max_iter=k)
+      x = 0.0_rp
+      call cg_solver%solve(p%a, jac2, p%b, x, info)
+      call suite%assert_true(max_rel_diff(z, x) <= 1.0e-12_rp .and. info%iterations == k &
+                             .and. sp%iterations == k, 'pcg steps: '//trim(itoa(k))//' steps = CG''s first '// &
+                             trim(itoa(k))//' iterations')
+      e = p%x_exact - z
+      call p%a%apply(e, ae)
+      energy = sqrt(comm%sum(dot_product(e, ae)))
+      call suite%assert_true(energy < last_energy, 'pcg steps: the energy error falls with the steps ('// &
+                             trim(itoa(k))//')')
+      last_energy = energy
+      if (k == 8) call suite%assert_true(sp%name() == 'PCG (8 steps) + jacobi', &
+                                         'pcg steps: named by its steps and inner preconditioner')
+      call sp%free()
+    end do
+  end subroutine check_fixed_steps
 
   !> Broken preconditioner (NaN), indefinite matrix for CG, bad diagonal for
   !> Jacobi: clean stops with a message, no endless loop.
