@@ -176,6 +176,14 @@ if run states_mumps 2; then
         $PY postproc/plot_convergence.py --step 5 "$out" "$name" "$out/states_step5.png"
     fi
   done
+  # S** by two CG steps with BoomerAMG (&contact schur_solve = 'pcg')
+  deck states_pcg tests/decks/flow_states.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
+  printf "&fracture_flow\n  pressure_block = 'eliminated'\n/\n&contact\n  schur_solve = 'pcg'\n/\n" >> "$out/states_pcg.nml"
+  if run states_pcg 2; then
+    its=$(grep "linear its" "$out/states_pcg.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
+    check "FGMRES + u-t-p block preconditioner, S** by 2 PCG steps, vs MUMPS (1e-6; largest count $its)" $PY \
+      tests/verification/check_flow.py same "$out/states_mumps" "$out/states_pcg" 1e-6
+  fi
 fi
 # the seed's injection case, reduced (tests/decks/flow_nine.nml): nine
 # fractures fed by a well each go stick -> slip -> open, and the log says so
