@@ -8,7 +8,7 @@
 #     elasticity, Mandel and the seed's explicit/implicit table, the peers
 #     on the same systems, strong scaling, contact on 5 levels with the
 #     four contact preconditioners a user runs, aFSAI against hypre's FSAI
-#   large (make bench-large, build/bench/REPORT_large.md, about 3 hours
+#   large (make bench-large, build/bench/REPORT_large.md, about 3.5 hours
 #     here): the contact preconditioners' diagnostics (stronger AMG, exact
 #     inner solves of S*), the fluid in the fractures on 4 and 2 m cells
 #     (MUMPS: 11 minutes of factorizations), the Treporti and Reservoir
