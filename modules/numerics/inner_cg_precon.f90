@@ -31,6 +31,7 @@ module inner_cg_precon
     type(cg_t) :: solver
     integer :: iterations = 0                     !< inner CG iterations, summed over applications
     integer :: steps = 0                          !< > 0: that many PCG steps, no tolerance
+    real(rp), allocatable :: res(:), w(:), p(:), q(:)   !< work vectors of the steps
     integer :: applications = 0
   contains
     procedure :: init => inner_cg_init
@@ -64,6 +65,7 @@ contains
     integer, intent(in) :: steps
     call attach(self, a, inner)
     self%steps = max(steps, 1)
+    allocate(self%res(0), self%w(0), self%p(0), self%q(0))
   end subroutine inner_cg_init_steps
 
   !> A fresh start on a (pointed to) with inner (moved in).
@@ -85,10 +87,13 @@ contains
     class(inner_cg_precon_t), intent(inout) :: self
     real(rp), intent(in) :: r(:)
     real(rp), intent(out) :: z(:)
-    real(rp), allocatable :: res(:), w(:), p(:), q(:)
     real(rp) :: rz, rz_old, pq, alpha
     integer :: k
-    allocate(res(size(r)), w(size(r)), p(size(r)), q(size(r)))
+    if (size(self%res) /= size(r)) then
+      deallocate(self%res, self%w, self%p, self%q)
+      allocate(self%res(size(r)), self%w(size(r)), self%p(size(r)), self%q(size(r)))
+    end if
+    associate (res => self%res, w => self%w, p => self%p, q => self%q)
     res = r
     z = 0.0_rp
     rz_old = 1.0_rp
@@ -116,6 +121,7 @@ contains
       rz_old = rz
       self%iterations = self%iterations + 1
     end do
+    end associate
   end subroutine apply_steps
 
   subroutine inner_cg_apply(self, r, z)
@@ -154,6 +160,7 @@ contains
     self%iterations = 0
     self%applications = 0
     self%steps = 0
+    if (allocated(self%res)) deallocate(self%res, self%w, self%p, self%q)
     self%setup_time = 0.0_rp
   end subroutine inner_cg_free
 end module inner_cg_precon

@@ -258,6 +258,7 @@ contains
     type(error_status_t), intent(inout) :: status
     type(global_csr_t) :: gc2, prod, corr, gk, sum1, sstar
     class(precon_t), allocatable :: p, w
+    type(boomeramg_precon_t), pointer :: samg
     type(precon_params_t) :: params
     !> tolerance and cap of the inner CG of schur_solve = 'inner_cg'
     real(rp), parameter :: inner_rtol = 1.0e-10_rp
@@ -274,27 +275,16 @@ contains
     ! S** (pressure_block = 'eliminated') takes away Q1 D_p^-1 A_pu
     if (self%p_eliminated) call pressure_correction(self, phys, corr)
     if (allocated(self%bp%s(phys%bu)%p)) then
-      select type (q => self%bp%s(phys%bu)%p)
-      type is (boomeramg_precon_t)
+      samg => schur_amg(self%bp%s(phys%bu)%p)
+      if (associated(samg)) then
         if (refreshed(self, phys, mesh, prod, corr)) then
           self%t_smat = wall_time() - t0
-          call q%update(self%s, status)
-          self%t_sprec = q%setup_time
+          call samg%update(self%s, status)
+          self%t_sprec = samg%setup_time
+          self%bp%s(phys%bu)%p%setup_time = samg%setup_time
           return
         end if
-      type is (inner_cg_precon_t)
-        ! 'pcg', 'inner_cg': the same for the AMG inside (q points to S*)
-        select type (qa => q%inner)
-        type is (boomeramg_precon_t)
-          if (refreshed(self, phys, mesh, prod, corr)) then
-            self%t_smat = wall_time() - t0
-            call qa%update(self%s, status)
-            self%t_sprec = qa%setup_time
-            q%setup_time = qa%setup_time
-            return
-          end if
-        end select
-      end select
+      end if
     end if
     ! a new S*: the old one and its preconditioner go first
     call discard(self%bp%s(phys%bu)%p)
@@ -335,6 +325,23 @@ contains
     end if
     call replace(self%bp%s(phys%bu)%p, p)
   end subroutine reordered_schur
+
+  !> The BoomerAMG of S*'s preconditioner p: p itself ('vcycle') or the one
+  !> inside its CG ('pcg', 'inner_cg', which point to S*); null otherwise.
+  function schur_amg(p) result(amg)
+    class(precon_t), intent(in), target :: p
+    type(boomeramg_precon_t), pointer :: amg
+    amg => null()
+    select type (p)
+    type is (boomeramg_precon_t)
+      amg => p
+    type is (inner_cg_precon_t)
+      select type (q => p%inner)
+      type is (boomeramg_precon_t)
+        amg => q
+      end select
+    end select
+  end function schur_amg
 
   !> S*'s values anew in place, K + prod (- corr), when S*'s pattern holds
   !> them on every rank. Collective.

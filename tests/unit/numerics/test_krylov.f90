@@ -576,7 +576,6 @@ contains
     type(solve_info_t) :: info
     type(error_status_t) :: status
     real(rp), allocatable :: x(:), z1(:), z2(:)
-    real(rp) :: diff, scale
     integer :: its_jacobi
 
     call build_problem(p, n_side, .false., 0.0_rp, .true.)
