@@ -5,7 +5,7 @@
 !>   schur_precon = 'afsai' in &solver)
 !>   max_steps  adaptive steps per row, >= 0                              [5]
 !>   step_size  entries added per row and step, >= 1                      [4]
-!>   tol        stop a row when a step improves it by less, >= 0       [1e-3]
+!>   tol        stop a row when a step improves it by less, >= 0       [1e-4]
 !>   init       start pattern: 'lower' (lower triangle of the matrix) or
 !>              'diagonal'                                            ['lower']
 !>   drop       drop entries below drop * the row's largest, >= 0        [0]
