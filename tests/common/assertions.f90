@@ -12,7 +12,7 @@ module assertions
   implicit none
   private
 
-  public :: test_suite_t
+  public :: test_suite_t, max_rel_diff
 
   type :: test_suite_t
     character(len=64) :: name = ''
@@ -104,4 +104,22 @@ contains
     call self%comm%finalize()
     if (self%failed > 0) stop 1
   end subroutine finish
+
+  !> max |a - b| / max |b| over all ranks of comm (0 when b is 0 everywhere):
+  !> the relative difference of two distributed vectors. Collective.
+  real(rp) function max_rel_diff(comm, a, b)
+    type(parallel_comm_t), intent(in) :: comm
+    real(rp), intent(in) :: a(:), b(:)
+    real(rp) :: diff, scale
+    diff = 0.0_rp
+    scale = 0.0_rp
+    if (size(b) > 0) then
+      diff = maxval(abs(a - b))
+      scale = maxval(abs(b))
+    end if
+    diff = comm%max(diff)
+    scale = comm%max(scale)
+    max_rel_diff = 0.0_rp
+    if (scale > 0.0_rp) max_rel_diff = diff / scale
+  end function max_rel_diff
 end module assertions

@@ -163,7 +163,7 @@ program test_krylov
   use fgmres, only: fgmres_t
   use jacobi_precon, only: jacobi_precon_t
   use dist_vector, only: pnorm2
-  use assertions, only: test_suite_t
+  use assertions, only: test_suite_t, max_rel_diff
   use precon, only: precon_t
   use inner_cg_precon, only: steps_precon_t => inner_cg_precon_t
   use strings, only: itoa
@@ -588,7 +588,7 @@ contains
     ! the same r twice gives two different z
     call var%apply(p%b, z1)
     call var%apply(p%b, z2)
-    call suite%assert_true(max_rel_diff(z2, z1) > 1.0e-3_rp, &
+    call suite%assert_true(max_rel_diff(comm, z2, z1) > 1.0e-3_rp, &
                            'the variable preconditioner changes from call to call')
 
     call gm%init(comm, rtol=rtol, atol=0.0_rp, max_iter=500, restart=30)
@@ -605,22 +605,6 @@ contains
     call jac%free()
     call free_problem(p)
   end subroutine check_flexible
-
-  !> max |a - b| / max |b| over all ranks (0 when b is 0 everywhere).
-  real(rp) function max_rel_diff(a, b)
-    real(rp), intent(in) :: a(:), b(:)
-    real(rp) :: diff, scale
-    diff = 0.0_rp
-    scale = 0.0_rp
-    if (size(b) > 0) then
-      diff = maxval(abs(a - b))
-      scale = maxval(abs(b))
-    end if
-    diff = comm%max(diff)
-    scale = comm%max(scale)
-    max_rel_diff = 0.0_rp
-    if (scale > 0.0_rp) max_rel_diff = diff / scale
-  end function max_rel_diff
 
   !> inner_cg_precon with a fixed number of steps (contact's schur_solve =
   !> 'pcg'): k steps from zero are CG's first k iterations (cg_t with
@@ -655,7 +639,7 @@ contains
       call cg_solver%init(comm, rtol=0.0_rp, atol=0.0_rp, max_iter=k)
       x = 0.0_rp
       call cg_solver%solve(p%a, jac2, p%b, x, info)
-      call suite%assert_true(max_rel_diff(z, x) <= 1.0e-12_rp .and. info%iterations == k &
+      call suite%assert_true(max_rel_diff(comm, z, x) <= 1.0e-12_rp .and. info%iterations == k &
                              .and. sp%iterations == k, 'pcg steps: '//trim(itoa(k))//' steps = CG''s first '// &
                              trim(itoa(k))//' iterations')
       e = p%x_exact - z
