@@ -39,6 +39,7 @@ module csr_matrix
     procedure :: add_value
     procedure :: finalize_assembly
     procedure :: apply => csr_apply
+    procedure :: abs_apply
     procedure :: n_owned => csr_n_owned
     procedure :: diagonal
     procedure :: global_nnz
@@ -221,6 +222,30 @@ contains
       y(i) = s
     end do
   end subroutine csr_apply
+
+  !> y = |A| |x| entry by entry, and row_max(i) = max_j |a_ij| (x: owned
+  !> columns, ghosts fetched): the denominators of a componentwise backward
+  !> error. Collective.
+  subroutine abs_apply(self, x, y, row_max)
+    class(csr_matrix_t), intent(inout) :: self
+    real(rp), intent(in) :: x(:)
+    real(rp), intent(out) :: y(:), row_max(:)
+    integer(ip) :: i, k, nown
+    real(rp) :: s, m
+    nown = self%col_map%n_owned
+    self%x_ext(1:nown) = abs(x(1:nown))
+    call self%col_map%import(self%x_ext)
+    do i = 1, self%n_rows
+      s = 0.0_rp
+      m = 0.0_rp
+      do k = self%row_ptr(i), self%row_ptr(i+1) - 1
+        s = s + abs(self%val(k)) * self%x_ext(self%col(k))
+        m = max(m, abs(self%val(k)))
+      end do
+      y(i) = s
+      row_max(i) = m
+    end do
+  end subroutine abs_apply
 
   integer(ip) function csr_n_owned(self)
     class(csr_matrix_t), intent(in) :: self

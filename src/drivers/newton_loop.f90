@@ -15,7 +15,7 @@ module newton_loop
   use status_sync, only: agree
   use logger, only: logger_t
   use timer_set, only: timer_set_t
-  use strings, only: itoa
+  use strings, only: itoa, rtoa
   use krylov, only: solve_info_t
   use linear_system, only: linear_system_t
   use linear_solver, only: linear_solver_t
@@ -173,6 +173,9 @@ contains
       itoa(info%iterations)//', set-up '//trim(secs_text(self%sys%setup_time + self%ls%t_factor))//' s, solve '// &
       trim(secs_text(info%solve_time))//' s')
     stats%linear_its = stats%linear_its + info%iterations
+    if (info%backward >= 0.0_rp) call log%detail('  direct solve: componentwise backward error '// &
+      trim(rtoa(info%backward))//' after '//itoa(info%iterations)//' refinement step(s), relative residual '// &
+      trim(rtoa(info%rel_res)))
     stats%rel_res = info%rel_res
     if (allocated(info%history)) call self%history%write(step, t, it, info%history)
     has_nan = sim%comm%any_true(any(self%sys%x /= self%sys%x))
