@@ -16,6 +16,7 @@ module krylov
     real(rp) :: res0 = 0.0_rp              !< initial residual norm
     real(rp) :: rel_res = 0.0_rp           !< final residual / ||b||
     real(rp) :: backward = -1.0_rp         !< a direct solve's componentwise backward error (< 0: not computed)
+    real(rp) :: backward0 = -1.0_rp        !< the same before our iterative refinement
     logical :: converged = .false.
     real(rp) :: solve_time = 0.0_rp
     real(rp), allocatable :: history(:)    !< relative residual per iteration (0..iterations)

@@ -204,7 +204,7 @@ contains
       if (associated(sys%d)) bs = sys%d * sys%b
       allocate(y(size(bs)))
       call self%direct%solve(bs, y, status)
-      if (status%ok()) call refine(self, bs, y, info%iterations, info%backward, status)
+      if (status%ok()) call refine(self, bs, y, info%iterations, info%backward0, info%backward, status)
       sys%x = y
       if (associated(sys%d)) sys%x = sys%d * y
     end if
@@ -238,14 +238,15 @@ contains
   !> factorized): while the componentwise backward error is above
   !> refine_target, up to max_refine corrections y += fact^-1 (bs - fact y),
   !> stopping when one does not halve it (the best y is kept). steps: the
-  !> corrections kept; omega: the backward error of the returned y.
+  !> corrections kept; omega0, omega: the backward errors of MUMPS's y and
+  !> of the returned one.
   !> Collective.
-  subroutine refine(self, bs, y, steps, omega, status)
+  subroutine refine(self, bs, y, steps, omega0, omega, status)
     type(linear_solver_t), intent(inout) :: self
     real(rp), intent(in) :: bs(:)
     real(rp), intent(inout) :: y(:)
     integer, intent(out) :: steps
-    real(rp), intent(out) :: omega
+    real(rp), intent(out) :: omega0, omega
     type(error_status_t), intent(inout) :: status
     real(rp), allocatable :: r(:), dy(:), yt(:)
     real(rp) :: om
@@ -253,6 +254,7 @@ contains
     allocate(r(size(bs)), dy(size(bs)))
     steps = 0
     omega = factorized_error(self, bs, y, r)
+    omega0 = omega
     do k = 1, max_refine
       if (omega <= refine_target) exit
       call self%direct%solve(r, dy, status)

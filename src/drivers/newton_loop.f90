@@ -28,6 +28,10 @@ module newton_loop
 
   public :: newton_loop_t
 
+  !> A Krylov solve that ends within stall_factor times rtol is accepted
+  !> with a warning (solve_linear).
+  real(rp), parameter :: stall_factor = 10.0_rp
+
   type :: newton_loop_t
     type(linear_solver_t) :: ls
     type(linear_system_t) :: sys
@@ -68,39 +72,65 @@ contains
   end subroutine init
 
   !> Iterate step `step` (sub-step from sim's accepted state to time t,
-  !> begun by sim%begin_step) to convergence. stats accumulates the step's
-  !> figures (over sub-steps too); timers the run's. Collective; converged,
-  !> why and status are the same on every rank.
-  subroutine solve_step(self, sim, log, timers, step, t, stats, converged, why, status)
+  !> begun by sim%begin_step, of size dt) to convergence. stats accumulates
+  !> the step's figures (over sub-steps too); timers the run's. When it
+  !> fails, cut_helps says whether a smaller step would meet another
+  !> problem: not when the first linear system failed and it does not
+  !> depend on the step's size (a load step's Jacobian at its start, or the
+  !> step at t = 0 of size 0): a cut would repeat that very system.
+  !> Collective; converged, cut_helps, why and status are the same on every
+  !> rank.
+  subroutine solve_step(self, sim, log, timers, step, t, dt, stats, converged, cut_helps, why, status)
     class(newton_loop_t), intent(inout) :: self
     class(simulation_t), intent(inout), target :: sim
     type(logger_t), intent(inout) :: log
     type(timer_set_t), intent(inout) :: timers
     integer, intent(in) :: step
-    real(rp), intent(in) :: t
+    real(rp), intent(in) :: t, dt
     type(step_stats_t), intent(inout) :: stats
-    logical, intent(out) :: converged
+    logical, intent(out) :: converged, cut_helps
     character(len=*), intent(out) :: why
     type(error_status_t), intent(inout) :: status
-    real(rp) :: secs
+    real(rp) :: secs, ratio_before
     integer :: it, its
+    logical :: stalled
     converged = .false.
+    cut_helps = .true.
     why = ''
+    stalled = .false.
+    ratio_before = huge(1.0_rp)
     call self%ls%begin_step()
-    do it = 1, sim%max_newton
+    ! with a residual test, one assembly more than solves: the residual of
+    ! the last update is judged before the loop gives up
+    do it = 1, sim%max_newton + merge(1, 0, sim%residual_test)
       call timers%start('assembly')
       call sim%assemble(status)
       call timers%stop('assembly', secs)
       stats%t_assembly = stats%t_assembly + secs
       call agree(sim%comm, status)
       if (.not. status%ok()) return
-      call self%solve_linear(sim, log, timers, step, t, it, stats, its, why)
-      if (len_trim(why) > 0) return
+      if (sim%residual_test .and. it > 1) then
+        call sim%check_residual(it - 1, log, converged, why)
+        if (converged) exit
+        ! a solve accepted near rtol must still move the Newton residual down
+        if (stalled .and. .not. (sim%residual_ratio < ratio_before)) then
+          why = 'the linear solver stalled near rtol and the Newton residual did not fall ('//trim(why)//')'
+          return
+        end if
+        ratio_before = sim%residual_ratio
+        if (it > sim%max_newton) exit
+      end if
+      call self%solve_linear(sim, log, timers, step, t, it, stats, its, stalled, why)
+      if (len_trim(why) > 0) then
+        cut_helps = it > 1 .or. (sim%transient .and. dt > 0.0_rp)
+        return
+      end if
       call sim%update(it, its, log, converged, why, status)
       stats%newton = stats%newton + 1
       call agree(sim%comm, status)
       if (.not. status%ok() .or. converged) return
     end do
+    if (converged) return
     if (sim%max_newton > 1) why = 'the Newton / active-set loop did not converge in '//itoa(sim%max_newton)// &
       ' iterations ('//trim(why)//')'
   end subroutine solve_step
@@ -109,7 +139,7 @@ contains
   !> measured against the elastic reference if asked, solved in its
   !> iterations. why is set when the solve failed (empty otherwise).
   !> Collective.
-  subroutine solve_linear(self, sim, log, timers, step, t, it, stats, its, why)
+  subroutine solve_linear(self, sim, log, timers, step, t, it, stats, its, stalled, why)
     class(newton_loop_t), intent(inout) :: self
     class(simulation_t), intent(inout), target :: sim
     type(logger_t), intent(inout) :: log
@@ -118,6 +148,7 @@ contains
     real(rp), intent(in) :: t
     type(step_stats_t), intent(inout) :: stats
     integer, intent(out) :: its                   !< iterations of the solve
+    logical, intent(out) :: stalled               !< a Krylov solve stalled near rtol was accepted
     character(len=*), intent(out) :: why
     type(error_status_t) :: status
     type(solve_info_t) :: info
@@ -126,6 +157,7 @@ contains
     integer :: i
     why = ''
     its = 0
+    stalled = .false.
     exported = .false.
     call timers%start('preconditioner set-up')
     call sim%linear_system(self%ls%is_direct(), self%sys, log, status)
@@ -174,13 +206,21 @@ contains
       trim(secs_text(info%solve_time))//' s')
     stats%linear_its = stats%linear_its + info%iterations
     if (info%backward >= 0.0_rp) call log%detail('  direct solve: componentwise backward error '// &
-      trim(rtoa(info%backward))//' after '//itoa(info%iterations)//' refinement step(s), relative residual '// &
-      trim(rtoa(info%rel_res)))
+      trim(rtoa(info%backward))//' after '//itoa(info%iterations)//' refinement step(s) ('// &
+      trim(rtoa(info%backward0))//' before), relative residual '//trim(rtoa(info%rel_res)))
     stats%rel_res = info%rel_res
     if (allocated(info%history)) call self%history%write(step, t, it, info%history)
     has_nan = sim%comm%any_true(any(self%sys%x /= self%sys%x))
     if (has_nan) then
       why = 'the linear solver returned NaN: '//trim(info%msg)
+    else if (.not. info%converged .and. .not. self%ls%is_direct() .and. info%rel_res <= stall_factor * sim%solver%rtol) then
+      ! a stall a hair above rtol is no reason to cut the step: accepted,
+      ! said, counted; the Newton loop checks that its residual still falls
+      stalled = .true.
+      stats%near_rtol = stats%near_rtol + 1
+      call log%warn('step '//itoa(step)//', Newton iteration '//itoa(it)//': the linear solver stalled at a '// &
+        'relative residual of '//trim(rtoa(info%rel_res))//', within '//itoa(nint(stall_factor))//'x of rtol = '// &
+        trim(rtoa(sim%solver%rtol))//': accepted')
     else if (.not. info%converged) then
       if (sim%solver%fail_on_no_convergence) then
         why = 'the linear solver did not converge: '//trim(info%msg)

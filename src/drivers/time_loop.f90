@@ -80,6 +80,7 @@ contains
         '): the run would take more than &time max_steps = '//itoa(run%max_steps)//' steps (raise max_steps)')
       call advance(comm, log, sim, rs, stats)
       call sim%report_step(stats, line)
+      if (stats%near_rtol > 0) line = trim(line)//'  near-rtol solves '//itoa(stats%near_rtol)
       call log%info(line)
       call sim%step_notes(notes)
       do k = 1, size(notes)
@@ -226,7 +227,7 @@ contains
     type(step_stats_t), intent(inout) :: stats
     type(error_status_t) :: status
     real(rp) :: t_target, dl, t_new, dt
-    logical :: converged
+    logical :: converged, cut_helps
     character(len=msg_len) :: why
     t_target = stats%t
     dl = stats%dt
@@ -240,7 +241,8 @@ contains
       end if
       call sim%save_state(rs%saved)
       call sim%begin_step(t_new, dt, status)
-      if (status%ok()) call rs%newton%solve_step(sim, log, rs%timers, stats%step, t_new, stats, converged, why, status)
+      if (status%ok()) call rs%newton%solve_step(sim, log, rs%timers, stats%step, t_new, dt, stats, converged, &
+                                                 cut_helps, why, status)
       call agree(comm, status)
       if (.not. status%ok()) call log%fatal(comm, 'step '//itoa(stats%step)//': '//trim(status%msg))
       if (converged) then
@@ -252,6 +254,15 @@ contains
       end if
       call sim%load_state(rs%saved, status)
       if (.not. status%ok()) call log%fatal(comm, 'step '//itoa(stats%step)//': '//trim(status%msg))
+      if (.not. cut_helps .and. sim%max_cuts > 0) then
+        if (dt == 0.0_rp) then
+          why = trim(why)//'; not cut: the step at t = 0 has no size to halve'
+        else
+          why = trim(why)//'; not cut: its first linear system does not depend on the step size, so a smaller '// &
+                'step would solve the same one'
+        end if
+        call log%fatal(comm, 'step '//itoa(stats%step)//' (t = '//trim(rtoa(t_new))//'): '//trim(why))
+      end if
       if (stats%cuts >= sim%max_cuts) call fail_step(comm, log, sim, stats, t_new, why)
       stats%cuts = stats%cuts + 1
       call log%warn('step '//itoa(stats%step)//': no convergence at t = '//trim(rtoa(t_new))//' ('//trim(why)// &

@@ -70,6 +70,7 @@ module contact
   use fracture_flow, only: fracture_flow_t
   use flow_config, only: flow_config_t, well_config_t, pressure_bc_t
   use fracture_wells, only: well_links_t
+  use dist_vector, only: pnorm2
   implicit none
   private
 
@@ -129,6 +130,12 @@ module contact
     real(rp), allocatable :: p_fixed(:)            !< (n) its prescribed pressure in the step [Pa]
     real(rp) :: dt = 1.0_rp                        !< time step [s]
     real(rp) :: cf = 0.0_rp                        !< fluid compressibility [1/Pa]
+    ! the magnitudes the residual's rows balance, at the last assembly
+    ! (field_residuals): the momentum's largest force vector [N], per mass
+    ! row the sum of its terms' absolute values [m^3] (0 on rows that hold a
+    ! pressure rather than balance a mass)
+    real(rp) :: force_ref = 0.0_rp
+    real(rp), allocatable :: mass_mag(:)
   contains
     procedure :: init
     procedure :: assemble_stiffness
@@ -141,6 +148,7 @@ module contact
     procedure :: tip_skew
     procedure :: nodal_u
     procedure :: begin_flow_step
+    procedure :: field_residuals
     procedure :: free
   end type contact_t
 
@@ -504,9 +512,12 @@ contains
     type(contact_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     real(rp) :: be(3, nju), bo(3, nju), r, dp, m_self, m_off, dt, stor
+    real(rp), allocatable :: wq(:)
     integer(ip) :: e, k, ed, o, dofs(nju), dofo(nju), p0, p1
     integer :: s
     dt = self%dt
+    if (.not. allocated(self%mass_mag)) allocate(self%mass_mag(mesh%iface_map%n_owned))
+    self%mass_mag = 0.0_rp
     associate (jpu => self%sys%a(self%bp, self%bu), jpp => self%sys%a(self%bp, self%bp))
       call jpu%zero()
       call jpp%zero()
@@ -521,6 +532,8 @@ contains
         call free_jump_operator(e, be, dofs)
         stor = self%area(e) * self%ff%aperture(e) * self%cf
         r = self%area(e) * (self%jump(1, e) - self%gn_step(e)) + stor * (self%p(e) - self%p_step(e))
+        self%mass_mag(e) = abs(self%area(e) * (self%jump(1, e) - self%gn_step(e))) + &
+                           abs(stor * (self%p(e) - self%p_step(e)))
         call jpu%add_block([e], dofs, be(1:1, :) * (1.0_rp + self%cf * (self%p(e) - self%p_step(e)) &
                                                     * self%ff%da_dg(e)))
         call jpp%add_value(e, e, stor)
@@ -531,6 +544,7 @@ contains
           o = self%edges%pair(3 - s, ed)
           dp = self%p(e) - self%p(o)
           r = r + dt * self%ff%trans(ed) * dp
+          self%mass_mag(e) = self%mass_mag(e) + abs(dt * self%ff%trans(ed) * dp)
           call jpp%add_value(e, e, dt * self%ff%trans(ed))
           call jpp%add_value(e, o, -dt * self%ff%trans(ed))
           if (dp /= 0.0_rp .and. self%ff%da_dg(e) > 0.0_rp) &
@@ -545,11 +559,15 @@ contains
           call jpp%add_value(e, e, m_self)
           call jpp%add_value(e, o, m_off)
           r = r + m_self * (self%p(e) - self%p_step(e)) + m_off * (self%p(o) - self%p_step(o))
+          self%mass_mag(e) = self%mass_mag(e) + abs(m_self * (self%p(e) - self%p_step(e))) + &
+                             abs(m_off * (self%p(o) - self%p_step(o)))
         end do
         self%rhs(p0 + e - 1) = -r
       end do
-      ! the wells' rates (-dt q in r)
+      ! the wells' rates (-dt q in r); their volumes count in the magnitudes
+      wq = self%rhs(p0:p1)
       call self%wl%add_mass_terms(self%p, dt, dt > 0.0_rp .and. self%pfix == 0, jpp, self%rhs(p0:p1))
+      self%mass_mag = self%mass_mag + abs(self%rhs(p0:p1) - wq)
       call jpu%finalize_assembly()
       call jpp%finalize_assembly()
     end associate
@@ -805,6 +823,14 @@ contains
       end do
       call self%sys%apply_block(self%bu, self%bu, self%x(u0:u1), self%rhs(u0:u1))
       call self%sys%apply_block(self%bu, self%bt, tp, w)
+      do i = 1, u1 - u0 + 1
+        if (.not. self%mech%fixed(i)) cycle
+        self%rhs(u0 + i - 1) = 0.0_rp
+        w(i) = 0.0_rp
+      end do
+      ! the forces in balance: loads, internal forces, the faces' tractions
+      self%force_ref = max(pnorm2(mesh%comm, pack(self%f_u, .not. self%mech%fixed(1:u1-u0+1))), &
+                           pnorm2(mesh%comm, self%rhs(u0:u1)), pnorm2(mesh%comm, w))
       self%rhs(u0:u1) = self%f_u - self%rhs(u0:u1) - w
       do i = 1, u1 - u0 + 1
         if (self%mech%fixed(i)) self%rhs(u0 + i - 1) = 0.0_rp
@@ -875,6 +901,48 @@ contains
     end if
   end subroutine take_solution
 
+  !> The residual of the last assembly per field, in physical units, and
+  !> the magnitude it is measured against (2-norms over the owned rows):
+  !>   1 force [N]: the momentum rows; against the largest of the loads, the
+  !>     internal forces K u and the faces' forces C1 (t - p n);
+  !>   2 traction [Pa]: each contact row divided by its element's scale s
+  !>     (a stick row's gap A g and a slip row's friction mismatch alike
+  !>     become the traction that would close them at the element's
+  !>     stiffness); against the tractions and the faces' fluid pressures;
+  !>   3 fluid volume of the step [m^3] (fracture flow): the mass rows
+  !>     balancing a volume; against the sum of their terms' absolute values
+  !>     (opening, storage, flow to the neighbours, stabilization, wells).
+  !> Rows that hold a value (a prescribed or step-0 pressure) are linear and
+  !> left out. Collective.
+  subroutine field_residuals(self, mesh, res, ref)
+    class(contact_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(out) :: res(3), ref(3)
+    real(rp), allocatable :: rt(:), tp(:)
+    integer(ip) :: u0, u1, t0, t1, e, nown
+    type(parallel_comm_t) :: comm
+    comm = mesh%comm
+    nown = mesh%iface_map%n_owned
+    call self%sys%block_range(self%bu, u0, u1)
+    call self%sys%block_range(self%bt, t0, t1)
+    res(1) = pnorm2(comm, self%rhs(u0:u1))
+    ref(1) = self%force_ref
+    allocate(rt(3 * nown), tp(nown))
+    do e = 1, nown
+      rt(3*e-2:3*e) = self%rhs(t0 + 3*(e-1) : t0 + 3*e - 1) / self%s(e)
+      tp(e) = self%pres(e)
+      if (self%flow) tp(e) = self%p(e)
+    end do
+    res(2) = pnorm2(comm, rt)
+    ref(2) = pnorm2(comm, [reshape(self%trac(:, 1:nown), [3 * nown]), tp])
+    res(3) = 0.0_rp
+    ref(3) = 0.0_rp
+    if (.not. self%flow) return
+    call self%sys%block_range(self%bp, t0, t1)
+    if (self%dt > 0.0_rp) res(3) = pnorm2(comm, pack(self%rhs(t0:t1), self%pfix(1:nown) == 0))
+    ref(3) = pnorm2(comm, self%mass_mag)
+  end subroutine field_residuals
+
   !> Active-set update of the owned elements from the current state, ghosts
   !> synchronized. Returns the global number of changes. Collective.
   integer(gp) function update_states(self, mesh, tol) result(changed)
@@ -916,8 +984,12 @@ contains
       case (state_slip)
         if (self%trac(1, e) > tol * t_ref) then
           new = state_open
-        else if (norm2(self%trac(2:3, e) + self%area(e) / self%s(e) * dg) < tau - tol * t_ref) then
-          ! |z| below the limit: the slip increment turned against the traction
+        else if (norm2(self%trac(2:3, e) + self%area(e) / self%s(e) * dg) < tau - tol * t_ref .or. &
+                 dot_product(self%trac(2:3, e), dg) < 0.0_rp) then
+          ! |z| below the limit, or the slip increment against the friction
+          ! traction (which the slip rows set along the last direction):
+          ! the slip turned back, and an element that reverses passes
+          ! through stick
           new = state_stick
         end if
       case (state_open)
@@ -1096,6 +1168,7 @@ contains
     if (allocated(self%p)) deallocate(self%p, self%p_step, self%gn_step)
     call self%wl%free()
     if (allocated(self%pfix)) deallocate(self%pfix, self%p_fixed)
+    if (allocated(self%mass_mag)) deallocate(self%mass_mag)
     self%flow = .false.
     if (allocated(self%faults)) deallocate(self%faults)
     self%bu = 1

@@ -63,6 +63,11 @@ module contact_simulation
     type(flow_config_t) :: fcfg                     !< &fracture_flow
     type(well_config_t), allocatable :: wells(:)    !< &well groups
     type(pressure_bc_t), allocatable :: pbcs(:)     !< &fracture_pressure groups
+    ! the Newton loop's convergence test (check_residual)
+    integer(gp) :: changes = 0                      !< status changes of the last update
+    integer :: settled_at = 0                       !< the update from which no status changed (0: not yet)
+    integer :: field_at(3) = 0                      !< per field, the update from which it is within tolerance
+    real(rp) :: ref_max(3) = 0.0_rp                 !< per field, the largest magnitude of the run
   contains
     procedure :: name
     procedure :: read_deck
@@ -84,6 +89,7 @@ module contact_simulation
     procedure :: step_notes
     procedure :: controls_group
     procedure :: finish
+    procedure :: check_residual
     procedure :: free
   end type contact_simulation_t
 
@@ -123,6 +129,7 @@ contains
     end if
     self%max_newton = self%ccfg%max_newton
     self%max_cuts = self%ccfg%max_cuts
+    self%residual_test = .true.
     if (self%solver%method == 'cg') then
       call status%set("deck '"//trim(d%path)//"', group &solver, variable method: "// &
         "the contact system is a saddle point: use 'fgmres' or 'mumps'")
@@ -262,6 +269,9 @@ contains
     class(contact_simulation_t), intent(inout) :: self
     real(rp), intent(in) :: t, dt
     type(error_status_t), intent(inout) :: status
+    self%changes = 0
+    self%settled_at = 0
+    self%field_at = 0
     if (self%flow) then
       ! time t: the loads at full value times their histories at t
       self%lf = 1.0_rp
@@ -436,8 +446,9 @@ contains
     self%dsc = 1.0_rp / sqrt(abs(self%dsc))
   end subroutine scaling
 
-  !> x += dx, the new jumps and tractions, the active-set update; converged
-  !> when no status changed and (with slip) the update is small.
+  !> x += dx, the new jumps and tractions, the active-set update. Whether
+  !> the step has converged is judged on the residual of the new iterate
+  !> (check_residual, after the next assembly), so converged stays false.
   subroutine update(self, iteration, linear_its, log, converged, why, status)
     class(contact_simulation_t), intent(inout) :: self
     integer, intent(in) :: iteration, linear_its
@@ -445,7 +456,7 @@ contains
     logical, intent(out) :: converged
     character(len=*), intent(out) :: why
     type(error_status_t), intent(inout) :: status
-    integer(gp) :: changed, n(3)
+    integer(gp) :: n(3)
     integer(ip) :: u0, u1, t0, t1
     real(rp) :: du, dt, dp
     character(len=msg_len) :: line
@@ -455,8 +466,10 @@ contains
       phys%x = phys%x + self%dx
       call phys%take_solution(self%mesh)
       ! step 0 (&geostatic) balances the in-situ state with the faults bonded
-      changed = 0
-      if (.not. self%geo_step) changed = phys%update_states(self%mesh, self%ccfg%status_tol)
+      self%changes = 0
+      if (.not. self%geo_step) self%changes = phys%update_states(self%mesh, self%ccfg%status_tol)
+      if (self%changes > 0) self%settled_at = 0
+      if (self%changes == 0 .and. self%settled_at == 0) self%settled_at = iteration
       du = pnorm2(comm, self%dx(u0:u1)) / max(pnorm2(comm, phys%x(u0:u1)), tiny(1.0_rp))
       dt = pnorm2(comm, self%dx(t0:t1)) / max(pnorm2(comm, phys%x(t0:t1)), tiny(1.0_rp))
       n = phys%count_states(self%mesh)
@@ -468,18 +481,70 @@ contains
     end associate
     write(line, '(a,i3,a,i5,a,es9.2,a,es9.2,a,i0,a,3(i0,a))') '  newton ', iteration, '  linear its ', linear_its, &
       '  |du|/|u| ', du, &
-      '  |dt|/|t| ', dt, '  status changes ', changed, '  stick/slip/open ', n(1), '/', n(2), '/', n(3), ''
+      '  |dt|/|t| ', dt, '  status changes ', self%changes, '  stick/slip/open ', n(1), '/', n(2), '/', n(3), ''
+    if (self%flow) write(line, '(a,a,es9.2)') trim(line), '  |dp|/|p| ', dp
     call log%detail(line)
-    converged = changed == 0 .and. (n(2) == 0 .or. (du <= self%ccfg%newton_tol .and. dt <= self%ccfg%newton_tol))
-    ! the cubic law makes the fluid nonlinear whatever the statuses
-    if (self%flow) converged = converged .and. du <= self%ccfg%newton_tol .and. dp <= self%ccfg%newton_tol
-    if (self%flow) write(line, '(a,es9.2)') '  |dp|/|p| ', dp
-    if (self%flow) call log%detail(line)
-    if (converged) call warn_held(self, log)
+    converged = .false.
     why = ''
-    if (.not. converged) write(why, '(a,i0,a,es9.2,a,es9.2)') 'last iteration: ', changed, &
-      ' status changes, |du|/|u| ', du, ', |dt|/|t| ', dt
   end subroutine update
+
+  !> The residual of the iterate per field in physical units (contact_t
+  !> field_residuals: force [N], traction [Pa], fluid volume of the step
+  !> [m^3]), each against newton_tol times the magnitude it balances (at
+  !> least ref_floor times the largest such magnitude of the run, so that a
+  !> field at rest is not asked for digits below round-off of its earlier
+  !> steps). Converged when every field is within its tolerance and the
+  !> last update changed no status. A detail line per iteration; at
+  !> convergence, which field (or the active set) was the last to settle.
+  subroutine check_residual(self, updates, log, converged, why)
+    class(contact_simulation_t), intent(inout) :: self
+    integer, intent(in) :: updates
+    type(logger_t), intent(inout) :: log
+    logical, intent(out) :: converged
+    character(len=*), intent(out) :: why
+    real(rp), parameter :: ref_floor = 1.0e-4_rp
+    character(len=8), parameter :: names(3) = [character(len=8) :: 'force', 'traction', 'volume']
+    character(len=3), parameter :: units(3) = [character(len=3) :: 'N', 'Pa', 'm3']
+    real(rp) :: res(3), ref(3), tol(3)
+    logical :: ok(3)
+    integer :: k, nf, last
+    character(len=msg_len) :: line, what
+    call self%phys%field_residuals(self%mesh, res, ref)
+    nf = merge(3, 2, self%flow)
+    line = '  residual after update '//itoa(updates)//':'
+    why = ''
+    do k = 1, nf
+      tol(k) = self%ccfg%newton_tol * max(ref(k), ref_floor * self%ref_max(k))
+      ok(k) = res(k) <= tol(k)
+      if (.not. ok(k)) self%field_at(k) = 0
+      if (ok(k) .and. self%field_at(k) == 0) self%field_at(k) = updates
+      write(what, '(a,1x,es9.2,a,es9.2,1x,a)') trim(names(k)), res(k), merge(' <=', ' > ', ok(k)), tol(k), &
+        trim(units(k))
+      line = trim(line)//'  '//trim(what)
+      if (.not. ok(k)) why = trim(why)//', '//trim(what)
+    end do
+    call log%detail(trim(line)//'  status changes '//itoa(int(self%changes)))
+    self%residual_ratio = maxval(res(1:nf) / max(tol(1:nf), tiny(1.0_rp)))
+    converged = all(ok(1:nf)) .and. self%changes == 0
+    if (self%changes > 0) why = trim(why)//', '//itoa(int(self%changes))//' status change(s) in the last update'
+    if (len_trim(why) > 0) why = 'residual after the last update: '//why(3:)
+    if (.not. converged) return
+    ! (converged states only: a wild first iterate must not set the floor)
+    self%ref_max(1:nf) = max(self%ref_max(1:nf), ref(1:nf))
+    ! the last to settle: the field (or the active set) that met its
+    ! tolerance at the latest update
+    last = maxloc(self%field_at(1:nf), dim=1)
+    if (all(self%field_at(1:nf) == updates) .and. self%settled_at <= updates .and. updates == 1) then
+      call log%detail('  converged after 1 update: every field within its tolerance, no status change')
+    else if (self%settled_at > self%field_at(last)) then
+      call log%detail('  converged after '//itoa(updates)//' update(s); the last to settle: the active set (no '// &
+                      'status change from update '//itoa(self%settled_at)//' on)')
+    else
+      call log%detail('  converged after '//itoa(updates)//' update(s); the last field to converge: '// &
+                      trim(names(last))//' (within its tolerance from update '//itoa(self%field_at(last))//' on)')
+    end if
+    call warn_held(self, log)
+  end subroutine check_residual
 
   !> After step 0 (&geostatic): per fault, the elements whose in-situ
   !> traction lies beyond the Coulomb limit (tension, or |t_T| > c - tan(phi)

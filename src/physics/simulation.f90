@@ -16,6 +16,11 @@
 !>     begin_step(t, dt)          loads and prescribed values at t
 !>     Newton / active-set loop, it = 1 .. max_newton:
 !>       assemble()               Jacobian and right-hand side at the iterate
+!>       check_residual(it - 1)   (a physics with residual_test, from it = 2 on)
+!>                                the residual of the iterate per field in
+!>                                physical units: the step has converged when
+!>                                every field is within its tolerance and
+!>                                the last update changed no status
 !>       linear_system(sys)       the system to solve: views of its operator,
 !>                                rhs, unknown, preconditioner (set up or
 !>                                refreshed here), scaling
@@ -74,6 +79,7 @@ module simulation
     integer :: newton = 0                !< Newton / active-set iterations
     integer :: linear_its = 0            !< linear iterations, summed
     integer :: cuts = 0                  !< halvings of the step
+    integer :: near_rtol = 0             !< Krylov solves accepted after stalling within 10x of rtol
     real(rp) :: rel_res = 0.0_rp         !< relative residual of the last linear solve
     real(rp) :: t_assembly = 0.0_rp      !< seconds: assembly
     real(rp) :: t_setup = 0.0_rp         !< seconds: preconditioner set-up and factorizations
@@ -91,6 +97,12 @@ module simulation
     type(fault_config_t), allocatable :: faults(:)         !< surfaces the mesh must split (&fault)
     logical :: transient = .false.                         !< time steps (dt, t_end) rather than load steps
     integer :: max_newton = 1                              !< iterations per step (1: linear)
+    !> the step's convergence is judged by check_residual on the residual
+    !> of the iterate (a nonlinear physics), not by update
+    logical :: residual_test = .false.
+    !> check_residual's largest residual over tolerance of the fields
+    !> (below 1: converged), for the Newton loop's progress check
+    real(rp) :: residual_ratio = 0.0_rp
     integer :: max_cuts = 0                                !< halvings of a step that does not converge
     type(geostatic_config_t) :: geo                        !< &geostatic (geo%on: the run starts in situ)
     logical :: initial_step = .false.                      !< a step 0 at t = 0 before any load (geostatic)
@@ -120,6 +132,7 @@ module simulation
     procedure :: step_notes
     procedure :: controls_group
     procedure :: finish
+    procedure :: check_residual
   end type simulation_t
 
   abstract interface
@@ -365,6 +378,21 @@ contains
     character(len=msg_len), allocatable, intent(out) :: lines(:)
     allocate(lines(0))
   end subroutine step_notes
+
+  !> With residual_test: judge the residual of the iterate just assembled,
+  !> after `updates` Newton updates of the step (>= 1): converged when every
+  !> field is within its tolerance and the statuses have settled; why: what
+  !> is still out, in physical units. Default (no residual test): never
+  !> converged here. Collective; converged is the same on every rank.
+  subroutine check_residual(self, updates, log, converged, why)
+    class(simulation_t), intent(inout) :: self
+    integer, intent(in) :: updates
+    type(logger_t), intent(inout) :: log
+    logical, intent(out) :: converged
+    character(len=*), intent(out) :: why
+    converged = .false.
+    why = ''
+  end subroutine check_residual
 
   !> Closing lines of the run (default: none). Collective.
   subroutine finish(self, log)
