@@ -18,7 +18,7 @@
 # Usage: bench/run_all.sh [standard | large | script ...]   (default: standard)
 set -u
 cd "$(dirname "$0")/.."
-standard="run_bench.sh run_bench_biot.sh run_bench_peers.sh run_bench_scaling.sh run_bench_contact.sh run_bench_fsai.sh"
+standard="run_bench.sh run_bench_biot.sh run_bench_peers.sh run_bench_scaling.sh run_bench_contact.sh run_bench_fsai.sh run_bench_robustness.sh"
 large="run_bench_contact_diagnostics.sh run_bench_flow.sh run_bench_standins.sh run_bench_hi24l.sh"
 report=build/bench/REPORT.md
 case "${1:-standard}" in

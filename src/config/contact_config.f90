@@ -29,7 +29,16 @@
 !>                                                                    ['vcycle']
 !>   schur_its      schur_solve = 'pcg': CG steps per application, 1..50  [2]
 !>   max_newton     Newton / active-set iterations per load step, >= 1     [30]
-!>   newton_tol     relative size of the last Newton update of u and t, > 0 [1e-6]
+!>   newton_tol     the Newton loop's tolerance, per field, on the residual of
+!>                  the iterate in physical units: force [N] against the
+!>                  largest of the loads, K u and the faces' forces;
+!>                  traction [Pa] (each contact row over its element's
+!>                  scale s) against the tractions and fluid pressures; with
+!>                  the fluid, volume of the step [m^3] against the sum of
+!>                  the mass rows' terms. A step has converged when every
+!>                  field is within newton_tol (or at round-off: 16 eps
+!>                  times its terms' operands) and the last update changed
+!>                  no status. In (0, 1)                              [1e-6]
 !>   status_tol     relative tolerance of the status checks (tractions against
 !>                  the largest traction, gaps against the largest jump), > 0 [1e-6]
 !>   max_cuts       halvings of a load step whose Newton loop does not
@@ -146,7 +155,7 @@ contains
     call g%add('schur_solve', self%schur_solve, '-', "how S* is applied: 'vcycle', 'pcg' or 'inner_cg'")
     call g%add('schur_its', self%schur_its, '-', "schur_solve = 'pcg': CG steps per application")
     call g%add('max_newton', self%max_newton, '-', 'Newton / active-set iterations per load step')
-    call g%add('newton_tol', self%newton_tol, '-', 'relative size of the last Newton update')
+    call g%add('newton_tol', self%newton_tol, '-', 'relative residual per field (force, traction, fluid volume)')
     call g%add('status_tol', self%status_tol, '-', 'relative tolerance of the status checks')
     call g%add('max_cuts', self%max_cuts, '-', 'halvings of a load step that does not converge')
     call g%add('reuse', self%reuse, '-', "FGMRES: keep the Schur part while no status changes")

@@ -136,6 +136,11 @@ module contact
     ! pressure rather than balance a mass)
     real(rp) :: force_ref = 0.0_rp
     real(rp), allocatable :: mass_mag(:)
+    ! the round-off of evaluating those rows: per row the sum of the
+    ! absolute values of its terms' operands (|K| |u| and the like), whose
+    ! eps multiple is the least residual double precision can show
+    real(rp) :: force_noise = 0.0_rp
+    real(rp), allocatable :: mass_noise(:)
   contains
     procedure :: init
     procedure :: assemble_stiffness
@@ -516,8 +521,10 @@ contains
     integer(ip) :: e, k, ed, o, dofs(nju), dofo(nju), p0, p1
     integer :: s
     dt = self%dt
-    if (.not. allocated(self%mass_mag)) allocate(self%mass_mag(mesh%iface_map%n_owned))
+    if (.not. allocated(self%mass_mag)) allocate(self%mass_mag(mesh%iface_map%n_owned), &
+                                                 self%mass_noise(mesh%iface_map%n_owned))
     self%mass_mag = 0.0_rp
+    self%mass_noise = 0.0_rp
     associate (jpu => self%sys%a(self%bp, self%bu), jpp => self%sys%a(self%bp, self%bp))
       call jpu%zero()
       call jpp%zero()
@@ -534,6 +541,8 @@ contains
         r = self%area(e) * (self%jump(1, e) - self%gn_step(e)) + stor * (self%p(e) - self%p_step(e))
         self%mass_mag(e) = abs(self%area(e) * (self%jump(1, e) - self%gn_step(e))) + &
                            abs(stor * (self%p(e) - self%p_step(e)))
+        self%mass_noise(e) = self%area(e) * (abs(self%jump(1, e)) + abs(self%gn_step(e))) + &
+                             stor * (abs(self%p(e)) + abs(self%p_step(e)))
         call jpu%add_block([e], dofs, be(1:1, :) * (1.0_rp + self%cf * (self%p(e) - self%p_step(e)) &
                                                     * self%ff%da_dg(e)))
         call jpp%add_value(e, e, stor)
@@ -545,6 +554,7 @@ contains
           dp = self%p(e) - self%p(o)
           r = r + dt * self%ff%trans(ed) * dp
           self%mass_mag(e) = self%mass_mag(e) + abs(dt * self%ff%trans(ed) * dp)
+          self%mass_noise(e) = self%mass_noise(e) + dt * self%ff%trans(ed) * (abs(self%p(e)) + abs(self%p(o)))
           call jpp%add_value(e, e, dt * self%ff%trans(ed))
           call jpp%add_value(e, o, -dt * self%ff%trans(ed))
           if (dp /= 0.0_rp .and. self%ff%da_dg(e) > 0.0_rp) &
@@ -561,6 +571,8 @@ contains
           r = r + m_self * (self%p(e) - self%p_step(e)) + m_off * (self%p(o) - self%p_step(o))
           self%mass_mag(e) = self%mass_mag(e) + abs(m_self * (self%p(e) - self%p_step(e))) + &
                              abs(m_off * (self%p(o) - self%p_step(o)))
+          self%mass_noise(e) = self%mass_noise(e) + abs(m_self) * (abs(self%p(e)) + abs(self%p_step(e))) + &
+                               abs(m_off) * (abs(self%p(o)) + abs(self%p_step(o)))
         end do
         self%rhs(p0 + e - 1) = -r
       end do
@@ -568,6 +580,7 @@ contains
       wq = self%rhs(p0:p1)
       call self%wl%add_mass_terms(self%p, dt, dt > 0.0_rp .and. self%pfix == 0, jpp, self%rhs(p0:p1))
       self%mass_mag = self%mass_mag + abs(self%rhs(p0:p1) - wq)
+      self%mass_noise = self%mass_noise + abs(self%rhs(p0:p1) - wq)
       call jpu%finalize_assembly()
       call jpp%finalize_assembly()
     end associate
@@ -831,6 +844,16 @@ contains
       ! the forces in balance: loads, internal forces, the faces' tractions
       self%force_ref = max(pnorm2(mesh%comm, pack(self%f_u, .not. self%mech%fixed(1:u1-u0+1))), &
                            pnorm2(mesh%comm, self%rhs(u0:u1)), pnorm2(mesh%comm, w))
+      ! and their round-off: |f| + |K| |u| + |C1| |t - t_p|
+      block
+        real(rp), allocatable :: ka(:), ca(:), rmax(:)
+        allocate(ka(u1 - u0 + 1), ca(u1 - u0 + 1), rmax(u1 - u0 + 1))
+        call self%sys%a(self%bu, self%bu)%abs_apply(self%x(u0:u1), ka, rmax)
+        call self%sys%a(self%bu, self%bt)%abs_apply(tp, ca, rmax)
+        ka = abs(self%f_u) + ka + ca
+        where (self%mech%fixed(1:u1-u0+1)) ka = 0.0_rp
+        self%force_noise = pnorm2(mesh%comm, ka)
+      end block
       self%rhs(u0:u1) = self%f_u - self%rhs(u0:u1) - w
       do i = 1, u1 - u0 + 1
         if (self%mech%fixed(i)) self%rhs(u0 + i - 1) = 0.0_rp
@@ -913,12 +936,14 @@ contains
   !>     balancing a volume; against the sum of their terms' absolute values
   !>     (opening, storage, flow to the neighbours, stabilization, wells).
   !> Rows that hold a value (a prescribed or step-0 pressure) are linear and
-  !> left out. Collective.
-  subroutine field_residuals(self, mesh, res, ref)
+  !> left out. noise: per field the magnitude of the operands of its terms
+  !> (|K| |u| + |C1| |t - t_p| + |f| and the like), whose eps multiple is
+  !> the round-off of evaluating the residual. Collective.
+  subroutine field_residuals(self, mesh, res, ref, noise)
     class(contact_t), intent(in) :: self
     type(dist_mesh_t), intent(in) :: mesh
-    real(rp), intent(out) :: res(3), ref(3)
-    real(rp), allocatable :: rt(:), tp(:)
+    real(rp), intent(out) :: res(3), ref(3), noise(3)
+    real(rp), allocatable :: rt(:), tp(:), nt(:)
     integer(ip) :: u0, u1, t0, t1, e, nown
     type(parallel_comm_t) :: comm
     comm = mesh%comm
@@ -927,20 +952,26 @@ contains
     call self%sys%block_range(self%bt, t0, t1)
     res(1) = pnorm2(comm, self%rhs(u0:u1))
     ref(1) = self%force_ref
-    allocate(rt(3 * nown), tp(nown))
+    noise(1) = self%force_noise
+    allocate(rt(3 * nown), tp(nown), nt(3 * nown))
     do e = 1, nown
       rt(3*e-2:3*e) = self%rhs(t0 + 3*(e-1) : t0 + 3*e - 1) / self%s(e)
       tp(e) = self%pres(e)
       if (self%flow) tp(e) = self%p(e)
+      nt(3*e-2:3*e) = self%area(e) * (abs(self%jump(:, e)) + abs(self%jump_step(:, e))) / self%s(e) + &
+                      abs(self%trac(:, e)) + abs(self%trac_step(:, e)) + abs(tp(e))
     end do
     res(2) = pnorm2(comm, rt)
     ref(2) = pnorm2(comm, [reshape(self%trac(:, 1:nown), [3 * nown]), tp])
+    noise(2) = pnorm2(comm, nt)
     res(3) = 0.0_rp
     ref(3) = 0.0_rp
+    noise(3) = 0.0_rp
     if (.not. self%flow) return
     call self%sys%block_range(self%bp, t0, t1)
     if (self%dt > 0.0_rp) res(3) = pnorm2(comm, pack(self%rhs(t0:t1), self%pfix(1:nown) == 0))
     ref(3) = pnorm2(comm, self%mass_mag)
+    noise(3) = pnorm2(comm, self%mass_noise)
   end subroutine field_residuals
 
   !> Active-set update of the owned elements from the current state, ghosts
@@ -1168,7 +1199,7 @@ contains
     if (allocated(self%p)) deallocate(self%p, self%p_step, self%gn_step)
     call self%wl%free()
     if (allocated(self%pfix)) deallocate(self%pfix, self%p_fixed)
-    if (allocated(self%mass_mag)) deallocate(self%mass_mag)
+    if (allocated(self%mass_mag)) deallocate(self%mass_mag, self%mass_noise)
     self%flow = .false.
     if (allocated(self%faults)) deallocate(self%faults)
     self%bu = 1
