@@ -62,7 +62,7 @@
 !>                               against 33/19/72/42 (GM2) and 32/19/72/41
 !>                               (GM1); the contact block at n = 40, 34-38
 !>                               against 35-43.
-!>   slab_threshold 0.6        : the strength threshold, at least, of the AMG of
+!>   slab_threshold 0.8        : the strength threshold, at least, of the AMG of
 !>                               the displacement block (K, S*) on a slab with
 !>                               flat cells (slab_geometry.f90 finds it; the
 !>                               physics apply it with for_slab()). On flat
@@ -75,16 +75,25 @@
 !>                               exactly 1/2 of it: at 0.5 they tie, to the
 !>                               round-off, and the strong ones pair nodes
 !>                               diagonally. Measured (CG to 1e-8, 1 rank):
-!>                               the 60 m plane-strain slab one cell thick
+!>                               the 59 m plane-strain slab one cell thick
 !>                               (186k unknowns, 8.7 mm cells graded to
-!>                               1:684) failed in 1,000 iterations at 0.5
+!>                               1:671) failed in 1,000 iterations at 0.5
 !>                               (and 0.45) and took 19 at 0.51 and 0.55, 20
-!>                               at 0.6, 22 at 0.7, 30 at 0.8, 33 at 0.9; the
-!>                               same slab two cells thick 1,000+ against
-!>                               21. On cubes 0.55 moved one count by one
-!>                               (22 -> 23, 108k, 2 ranks), hence a slab's
-!>                               setting rather than a new default. 0.6
-!>                               keeps a margin from the tie.
+!>                               at 0.6, 22 at 0.7, 30 at 0.8, 33 at 0.9; two
+!>                               and four cells thick failed too at 0.5 (21
+!>                               at 0.6 for two). S* of contact adds the
+!>                               fault's faces, mass-weighted the same way
+!>                               across the fault: FGMRES (reordered, per
+!>                               Newton iteration, the fault slipping) did
+!>                               not converge at 0.55 on that slab, 58/58/34
+!>                               at 0.6, 45/45/21 at 0.7, 46/47/19 at 0.8,
+!>                               49/51/21 at 0.9; on a 10k-unknown slab
+!>                               (tests/verification/slab_amg.sh, 2 ranks)
+!>                               558/359/100 at 0.6, 60/58/26 at 0.7,
+!>                               48/46/20 at 0.8: 0.8 keeps a margin from
+!>                               that cliff. On cubes 0.55 already moved one
+!>                               count (22 -> 23, 108k, 2 ranks), hence a
+!>                               slab's setting rather than a new default.
 module amg_params
   use kinds, only: rp, name_len
   use error_status, only: error_status_t
@@ -123,7 +132,7 @@ module amg_params
     integer :: interp_vec_qmax = 4                    !< entries per row of the added columns (0: all)
     !> strength threshold, at least, of the displacement block's AMG on a
     !> slab with flat cells (for_slab); 0: as strong_threshold
-    real(rp) :: slab_threshold = 0.6_rp
+    real(rp) :: slab_threshold = 0.8_rp
   contains
     procedure :: validate
     procedure :: to_lines

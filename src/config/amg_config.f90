@@ -6,7 +6,7 @@
 !>   strong_threshold, max_row_sum, max_levels, max_coarse_size, relax_type,
 !>   num_sweeps, relax_wt, print_level, cycle_type, interp_vec_variant,
 !>   interp_vec_qmax, slab_threshold
-!> slab_threshold (a real in [0, 1), default 0.6; 0: as strong_threshold): on
+!> slab_threshold (a real in [0, 1), default 0.8; 0: as strong_threshold): on
 !> a slab with flat cells (a plane-strain mesh one or a few cells thick,
 !> found from the mesh: src/discretization/slab_geometry.f90), the strength
 !> threshold of the displacement block's BoomerAMG (K; S* of contact and

@@ -97,11 +97,11 @@ contains
     ! and 0 leaves it as it is; the rest is kept
     p = amg_params_t()
     q = p%for_slab()
-    call suite%assert_true(q%strong_threshold == 0.6_rp .and. q%coarsen_type == p%coarsen_type .and. &
-                           q%num_functions == 3, 'params: for_slab raises the default 0.5 to slab_threshold 0.6')
-    p%strong_threshold = 0.9_rp
+    call suite%assert_true(q%strong_threshold == 0.8_rp .and. q%coarsen_type == p%coarsen_type .and. &
+                           q%num_functions == 3, 'params: for_slab raises the default 0.5 to slab_threshold 0.8')
+    p%strong_threshold = 0.95_rp
     q = p%for_slab()
-    call suite%assert_true(q%strong_threshold == 0.9_rp, 'params: for_slab keeps a strong_threshold above it')
+    call suite%assert_true(q%strong_threshold == 0.95_rp, 'params: for_slab keeps a strong_threshold above it')
     p%strong_threshold = 0.5_rp
     p%slab_threshold = 0.0_rp
     q = p%for_slab()
