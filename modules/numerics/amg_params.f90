@@ -62,6 +62,38 @@
 !>                               against 33/19/72/42 (GM2) and 32/19/72/41
 !>                               (GM1); the contact block at n = 40, 34-38
 !>                               against 35-43.
+!>   slab_threshold 0.8        : the strength threshold, at least, of the AMG of
+!>                               the displacement block (K, S*) on a slab with
+!>                               flat cells (slab_geometry.f90 finds it; the
+!>                               physics apply it with for_slab()). On flat
+!>                               cells the through-thickness coupling weighs
+!>                               a node's neighbours on the opposite face like
+!>                               a mass matrix (4:2:1 per cell), so the node
+!>                               across the thickness is the strongest, and
+!>                               at the mesh's boundaries (box faces, fault
+!>                               faces) its neighbours beside it weigh
+!>                               exactly 1/2 of it: at 0.5 they tie, to the
+!>                               round-off, and the strong ones pair nodes
+!>                               diagonally. Measured (CG to 1e-8, 1 rank):
+!>                               the 59 m plane-strain slab one cell thick
+!>                               (186k unknowns, 8.7 mm cells graded to
+!>                               1:671) failed in 1,000 iterations at 0.5
+!>                               (and 0.45) and took 19 at 0.51 and 0.55, 20
+!>                               at 0.6, 22 at 0.7, 30 at 0.8, 33 at 0.9; two
+!>                               and four cells thick failed too at 0.5 (21
+!>                               at 0.6 for two). S* of contact adds the
+!>                               fault's faces, mass-weighted the same way
+!>                               across the fault: FGMRES (reordered, per
+!>                               Newton iteration, the fault slipping) did
+!>                               not converge at 0.55 on that slab, 58/58/34
+!>                               at 0.6, 45/45/21 at 0.7, 46/47/19 at 0.8,
+!>                               49/51/21 at 0.9; on a 10k-unknown slab
+!>                               (tests/verification/slab_amg.sh, 2 ranks)
+!>                               558/359/100 at 0.6, 60/58/26 at 0.7,
+!>                               48/46/20 at 0.8: 0.8 keeps a margin from
+!>                               that cliff. On cubes 0.55 already moved one
+!>                               count (22 -> 23, 108k, 2 ranks), hence a
+!>                               slab's setting rather than a new default.
 module amg_params
   use kinds, only: rp, name_len
   use error_status, only: error_status_t
@@ -98,6 +130,9 @@ module amg_params
     !> modes), hypre's variant: 0 none, 1 and 2 GM, 3 LN; needs nodal > 0
     integer :: interp_vec_variant = 0
     integer :: interp_vec_qmax = 4                    !< entries per row of the added columns (0: all)
+    !> strength threshold, at least, of the displacement block's AMG on a
+    !> slab with flat cells (for_slab); 0: as strong_threshold
+    real(rp) :: slab_threshold = 0.8_rp
   contains
     procedure :: validate
     procedure :: to_lines
@@ -107,6 +142,7 @@ module amg_params
     procedure :: relax_ids
     procedure :: cycle_id
     procedure :: scalar
+    procedure :: for_slab
   end type amg_params_t
 
   character(len=*), parameter :: coarsen_names = 'cljp, ruge-stueben, falgout, pmis, hmis'
@@ -133,6 +169,15 @@ contains
     a%nodal = 0
     a%interp_vec_variant = 0
   end function scalar
+
+  !> The settings for the displacement block (K, S*) on a slab with flat
+  !> cells (slab_geometry.f90): strong_threshold raised to slab_threshold
+  !> (see the module header for why).
+  type(amg_params_t) function for_slab(self) result(a)
+    class(amg_params_t), intent(in) :: self
+    a = self
+    a%strong_threshold = max(self%strong_threshold, self%slab_threshold)
+  end function for_slab
 
   !> Range-check every field; the first bad one is reported in status by
   !> name, value and accepted range. Not collective.
@@ -188,6 +233,8 @@ contains
       call bad_real('relax_wt', self%relax_wt, 'a real in (0, 2)')
     else if (self%print_level < 0 .or. self%print_level > 3) then
       call bad_int('print_level', self%print_level, 'an integer in 0..3')
+    else if (.not. (self%slab_threshold >= 0.0_rp .and. self%slab_threshold < 1.0_rp)) then
+      call bad_real('slab_threshold', self%slab_threshold, 'a real in [0, 1) (0: as strong_threshold)')
     end if
 
   contains
@@ -223,7 +270,7 @@ contains
   subroutine to_lines(self, lines)
     class(amg_params_t), intent(in) :: self
     character(len=amg_line_len), allocatable, intent(out) :: lines(:)
-    allocate(lines(21))
+    allocate(lines(22))
     lines(1) = int_line('num_functions', self%num_functions)
     lines(2) = int_line('nodal', self%nodal)
     lines(3) = 'coarsen_type = '//trim(self%coarsen_type)
@@ -245,6 +292,7 @@ contains
     lines(19) = 'cycle_type = '//trim(self%cycle_type)
     lines(20) = int_line('interp_vec_variant', self%interp_vec_variant)
     lines(21) = int_line('interp_vec_qmax', self%interp_vec_qmax)
+    lines(22) = 'slab_threshold = '//real_text(self%slab_threshold)
   end subroutine to_lines
 
   !> hypre id of coarsen_type, or -1 when the name is unknown.

@@ -5,7 +5,13 @@
 !>   agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths,
 !>   strong_threshold, max_row_sum, max_levels, max_coarse_size, relax_type,
 !>   num_sweeps, relax_wt, print_level, cycle_type, interp_vec_variant,
-!>   interp_vec_qmax
+!>   interp_vec_qmax, slab_threshold
+!> slab_threshold (a real in [0, 1), default 0.8; 0: as strong_threshold): on
+!> a slab with flat cells (a plane-strain mesh one or a few cells thick,
+!> found from the mesh: src/discretization/slab_geometry.f90), the strength
+!> threshold of the displacement block's BoomerAMG (K; S* of contact and
+!> fracture flow) is at least this; the log says when it applies. Scalar
+!> blocks keep their own.
 module amg_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -29,14 +35,14 @@ contains
     integer :: num_functions, nodal, p_max_elmts, agg_num_levels, agg_p_max_elmts, num_paths, &
                max_levels, max_coarse_size, num_sweeps, print_level, interp_vec_variant, interp_vec_qmax, ios
     character(len=name_len) :: coarsen_type, interp_type, agg_interp_type, relax_type, cycle_type
-    real(rp) :: trunc_factor, strong_threshold, max_row_sum, relax_wt
+    real(rp) :: trunc_factor, strong_threshold, max_row_sum, relax_wt, slab_threshold
     type(error_status_t) :: vstat
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     namelist /amg/ num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor, &
                    agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths, strong_threshold, &
                    max_row_sum, max_levels, max_coarse_size, relax_type, num_sweeps, relax_wt, print_level, &
-                   interp_vec_variant, interp_vec_qmax, cycle_type
+                   interp_vec_variant, interp_vec_qmax, cycle_type, slab_threshold
 
     num_functions = params%num_functions; nodal = params%nodal; coarsen_type = params%coarsen_type
     interp_type = params%interp_type; p_max_elmts = params%p_max_elmts; trunc_factor = params%trunc_factor
@@ -46,7 +52,7 @@ contains
     max_levels = params%max_levels; max_coarse_size = params%max_coarse_size; relax_type = params%relax_type
     num_sweeps = params%num_sweeps; relax_wt = params%relax_wt; print_level = params%print_level
     interp_vec_variant = params%interp_vec_variant; interp_vec_qmax = params%interp_vec_qmax
-    cycle_type = params%cycle_type
+    cycle_type = params%cycle_type; slab_threshold = params%slab_threshold
     if (d%count('amg') > 0) then
       call d%block('amg', 1, b)
       read(b, nml=amg, iostat=ios, iomsg=msg)
@@ -61,7 +67,8 @@ contains
       num_paths=num_paths, strong_threshold=strong_threshold, max_row_sum=max_row_sum, &
       max_levels=max_levels, max_coarse_size=max_coarse_size, relax_type=relax_type, &
       num_sweeps=num_sweeps, relax_wt=relax_wt, print_level=print_level, &
-      interp_vec_variant=interp_vec_variant, interp_vec_qmax=interp_vec_qmax, cycle_type=cycle_type)
+      interp_vec_variant=interp_vec_variant, interp_vec_qmax=interp_vec_qmax, cycle_type=cycle_type, &
+      slab_threshold=slab_threshold)
     call params%validate(vstat)
     if (.not. vstat%ok()) then
       write(msg, '(a,i0,a)') "deck '"//trim(d%path)//"', group &amg (line ", d%first_line('amg', 1), "): "// &
@@ -98,5 +105,7 @@ contains
     call g%add('interp_vec_variant', params%interp_vec_variant, '-', &
                'rigid-body modes in the interpolation: 0 none, 1, 2 GM, 3 LN')
     call g%add('interp_vec_qmax', params%interp_vec_qmax, '-', 'entries per row of the added columns (0: all)')
+    call g%add('slab_threshold', params%slab_threshold, '-', &
+               'strength threshold, at least, of the displacement block on a slab with flat cells (0: off)')
   end subroutine describe_amg_config
 end module amg_config

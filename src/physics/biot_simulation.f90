@@ -135,6 +135,9 @@ contains
                     trim(self%solver%block_mode)//', Schur '//trim(self%solver%schur)//')')
     end if
     self%amg_s = self%amg%scalar()
+    self%amg_k = self%amg
+    if (self%solver%method /= 'mumps' .and. self%solver%precon == 'block' .and. self%solver%k_precon == 'boomeramg') &
+      call self%adapt_amg(mesh, log)
     allocate(self%dscale(size(self%phys%rhs)))
     self%dscale = 1.0_rp
   end subroutine setup
@@ -213,7 +216,7 @@ contains
     type(error_status_t), intent(inout) :: status
     character(len=msg_len) :: line
     if (.not. self%setup_done) then
-      call self%bpc%setup_fixed(self%phys, self%mesh, self%solver, self%fsai, self%amg, self%amg_s, status)
+      call self%bpc%setup_fixed(self%phys, self%mesh, self%solver, self%fsai, self%amg_k, self%amg_s, status)
       call agree(self%comm, status)
       if (.not. status%ok()) then
         status%msg = 'preconditioner set-up: '//trim(status%msg)

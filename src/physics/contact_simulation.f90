@@ -250,6 +250,8 @@ contains
         call log%info('linear solver: FGMRES with the '//trim(self%ccfg%block)//' block preconditioner')
       end if
     end if
+    self%amg_k = self%amg
+    if (self%solver%method /= 'mumps' .and. self%solver%precon /= 'mgr') call self%adapt_amg(mesh, log)
     allocate(self%dx(size(self%phys%x)), self%dsc(size(self%phys%x)))
   end subroutine setup
 
@@ -324,7 +326,7 @@ contains
       call mgr_setup(self, status)
     else
       self%cpc%subspace = self%flow .and. self%fcfg%subspace_correction
-      call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg, status, self%fcfg%pressure_precon)
+      call self%cpc%setup(self%phys, self%mesh, self%ccfg, self%amg_k, status, self%fcfg%pressure_precon)
     end if
     call agree(self%comm, status)
     if (.not. status%ok()) then

@@ -106,6 +106,7 @@ contains
     if (.not. status%ok()) return
     call log%info('displacement dofs: '//itoa(int(self%mech%u%map%n_global))//', matrix non-zeros: '// &
                   itoa(int(self%mech%k%global_nnz())))
+    if (self%solver%method /= 'mumps' .and. self%solver%precon == 'boomeramg') call self%adapt_amg(mesh, log)
     allocate(self%x(self%mech%u%n_owned()), self%u_loc(self%mech%u%n_local()), self%u_geo(self%mech%u%n_local()))
     self%x = 0.0_rp
     self%u_loc = 0.0_rp
@@ -157,7 +158,7 @@ contains
     if (direct) return
     if (.not. self%pc_ready) then
       t0 = wall_time()
-      params%amg = self%amg
+      params%amg = self%amg_k
       params%fsai = self%fsai%precon
       if (self%amg%interp_vec_variant > 0) params%modes = self%mech%rigid_body_modes(self%mesh)
       call self%mesh%node_keys(3, keys)

@@ -59,6 +59,8 @@ module simulation
   use boundary_config, only: boundary_config_t, read_boundaries, load_histories
   use fault_config, only: fault_config_t
   use dist_mesh, only: dist_mesh_t
+  use slab_geometry, only: slab_t, find_slab
+  use strings, only: itoa, rtoa
   use field_output, only: field_output_t
   use probe_fields, only: probe_fields_t
   implicit none
@@ -91,6 +93,8 @@ module simulation
     type(dist_mesh_t), pointer :: mesh => null()          !< set by setup; owned by the driver
     type(solver_config_t) :: solver                        !< &solver
     type(amg_params_t) :: amg                              !< &amg
+    !> &amg for the displacement block's AMG (K, S*), adapted to the mesh (adapt_amg)
+    type(amg_params_t) :: amg_k
     type(fsai_config_t) :: fsai                            !< &afsai, &block_fsai
     type(material_config_t), allocatable :: mats(:)        !< &material groups
     type(boundary_config_t), allocatable :: bcs(:)         !< &boundary groups (histories loaded)
@@ -121,6 +125,7 @@ module simulation
     procedure(report_step_iface), deferred :: report_step
     procedure(free_iface), deferred :: free
     procedure :: read_common
+    procedure :: adapt_amg
     procedure :: foreign_inputs
     procedure :: check_foreign
     procedure :: unused_inputs
@@ -305,6 +310,27 @@ contains
       end if
     end do
   end subroutine read_common
+
+  !> amg_k, the settings of the displacement block's BoomerAMG (K, and S*
+  !> of contact): &amg, with strong_threshold raised to slab_threshold on a
+  !> slab with flat cells (slab_geometry.f90; amg_params.f90 says why), and
+  !> a log line saying so. Call in setup, once the mesh is known. Collective.
+  subroutine adapt_amg(self, mesh, log)
+    class(simulation_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    type(logger_t), intent(inout) :: log
+    type(slab_t) :: slab
+    character(len=msg_len) :: line
+    self%amg_k = self%amg
+    slab = find_slab(mesh)
+    if (slab%axis == 0) return
+    self%amg_k = self%amg%for_slab()
+    line = 'slab along '//achar(iachar('w') + slab%axis)//' ('//rtoa(slab%thickness)//' m thick, '// &
+      rtoa(slab%width)//' m wide, cells flat up to 1:'//itoa(nint(slab%flatness))// &
+      '): BoomerAMG of the displacement block with strong_threshold '//rtoa(self%amg_k%strong_threshold)// &
+      ' (&amg slab_threshold)'
+    call log%info(line)
+  end subroutine adapt_amg
 
   !> &material density, k0 and k0_max belong to &geostatic: required (density) with
   !> it, refused without it; gravity comes from &geostatic, so a material's

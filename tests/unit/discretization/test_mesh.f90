@@ -1,6 +1,7 @@
 !> Unit tests of the mesh layer: unique faces and their orientation, surface
 !> sets and grading of the box generator, and the distributed mesh (ownership
-!> sums, the ghost layer, contiguous global numbering).
+!> sums, the ghost layer, contiguous global numbering), and which meshes are
+!> slabs with flat cells (slab_geometry).
 program test_mesh
   use kinds, only: rp, ip, gp
   use parallel_comm, only: parallel_comm_t
@@ -11,12 +12,14 @@ program test_mesh
   use partition, only: partition_cells
   use dist_mesh, only: dist_mesh_t
   use hex_q1, only: quad_area_vector
+  use slab_geometry, only: slab_t, find_slab
   implicit none
 
   type(parallel_comm_t) :: comm
   type(test_suite_t) :: suite
   type(mesh_t) :: g
   type(dist_mesh_t) :: dm
+  type(slab_t) :: slab
   type(error_status_t) :: st
   integer(ip), allocatable :: part(:)
   integer(ip), parameter :: n(3) = [4, 3, 2]
@@ -119,9 +122,43 @@ program test_mesh
   call suite%assert_true(ok, 'node set xmax lies on x = 2')
   call suite%assert_close(comm%sum(sum([(dm%cell_volume(c), c = 1, dm%cell_map%n_owned)])), 3.0_rp, 1.0e-12_rp, &
                           'owned cell volumes add up to the box volume')
+
+  ! slabs: thin along an axis (1/10 of the others at most) with a flat cell
+  ! (4 times wider than thick at least)
+  slab = find_slab(dm)
+  call suite%assert_equal_int(slab%axis, 0, 'slab: the 4x3x2 box is none')
+  slab = box_slab([8_ip, 6_ip, 1_ip], [40.0_rp, 30.0_rp, 0.1_rp])
+  call suite%assert_true(slab%axis == 3 .and. abs(slab%thickness - 0.1_rp) < 1.0e-12_rp .and. &
+                         abs(slab%width - 30.0_rp) < 1.0e-12_rp .and. abs(slab%flatness - 50.0_rp) < 1.0e-9_rp, &
+                         'slab: 8x6x1 cells on 40 x 30 x 0.1 m is a slab along z, cells flat 1:50')
+  slab = box_slab([1_ip, 8_ip, 6_ip], [0.1_rp, 40.0_rp, 30.0_rp])
+  call suite%assert_equal_int(slab%axis, 1, 'slab: the same across x is a slab along x')
+  slab = box_slab([20_ip, 20_ip, 1_ip], [1.0_rp, 1.0_rp, 0.05_rp])
+  call suite%assert_equal_int(slab%axis, 0, 'slab: a thin plate of cubic cells (Mandel) is none')
+  slab = box_slab([8_ip, 6_ip, 2_ip], [40.0_rp, 30.0_rp, 5.0_rp])
+  call suite%assert_equal_int(slab%axis, 0, 'slab: flat cells in a plate 1/6 as thick as wide are none')
   call suite%finish()
 
 contains
+
+  !> find_slab of the box [0, hi] with n cells, distributed over comm.
+  function box_slab(n, hi) result(sl)
+    integer(ip), intent(in) :: n(3)
+    real(rp), intent(in) :: hi(3)
+    type(slab_t) :: sl
+    type(mesh_t) :: gb
+    type(dist_mesh_t) :: db
+    type(error_status_t) :: stb
+    integer(ip), allocatable :: pb(:)
+    if (comm%is_root()) then
+      call build_box_mesh(gb, n, [0.0_rp, 0.0_rp, 0.0_rp], hi, [1.0_rp, 1.0_rp, 1.0_rp], stb)
+      allocate(pb(gb%n_cells))
+      if (stb%ok()) call partition_cells(gb, int(comm%size, ip), pb, stb)
+    end if
+    call db%build(comm, gb, pb, stb)
+    call suite%assert_true(stb%ok(), 'slab: box mesh built and distributed: '//trim(stb%msg))
+    sl = find_slab(db)
+  end function box_slab
 
   !> Cells touching a node of the structured 4x3x2 box at position x.
   integer function expected_cells(x)

@@ -35,7 +35,7 @@ contains
   !> holds every field.
   subroutine test_params(suite)
     type(test_suite_t), intent(inout) :: suite
-    type(amg_params_t) :: p
+    type(amg_params_t) :: p, q
     type(error_status_t) :: st
     character(len=amg_line_len), allocatable :: lines(:)
     integer :: down, up
@@ -89,13 +89,31 @@ contains
     p%cycle_type = 'f'
     call expect_bad(suite, p, 'cycle_type')
     p = amg_params_t()
+    p%slab_threshold = 1.0_rp
+    call expect_bad(suite, p, 'slab_threshold')
+    p%slab_threshold = -0.1_rp
+    call expect_bad(suite, p, 'slab_threshold')
+    ! on a slab the threshold is raised to slab_threshold, never lowered,
+    ! and 0 leaves it as it is; the rest is kept
+    p = amg_params_t()
+    q = p%for_slab()
+    call suite%assert_true(q%strong_threshold == 0.8_rp .and. q%coarsen_type == p%coarsen_type .and. &
+                           q%num_functions == 3, 'params: for_slab raises the default 0.5 to slab_threshold 0.8')
+    p%strong_threshold = 0.95_rp
+    q = p%for_slab()
+    call suite%assert_true(q%strong_threshold == 0.95_rp, 'params: for_slab keeps a strong_threshold above it')
+    p%strong_threshold = 0.5_rp
+    p%slab_threshold = 0.0_rp
+    q = p%for_slab()
+    call suite%assert_true(q%strong_threshold == 0.5_rp, 'params: slab_threshold 0 leaves strong_threshold')
+    p = amg_params_t()
     call suite%assert_equal_int(p%cycle_id(), 1, 'params: the default cycle is the V-cycle (1)')
     p%cycle_type = 'W'
     call suite%assert_equal_int(p%cycle_id(), 2, 'params: cycle_type W is 2')
 
     p = amg_params_t()
     call p%to_lines(lines)
-    call suite%assert_equal_int(size(lines), 21, 'params: one echo line per field')
+    call suite%assert_equal_int(size(lines), 22, 'params: one echo line per field')
     call suite%assert_true(any(lines == 'coarsen_type = hmis') .and. any(lines == 'num_functions = 3') &
                            .and. any(lines == 'strong_threshold = 0.500000') .and. any(lines == 'cycle_type = v'), &
                            'params: echo lines read "name = value"')
