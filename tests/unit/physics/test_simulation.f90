@@ -138,10 +138,10 @@ contains
     type(error_status_t) :: status
     type(timer_set_t) :: timers
     type(step_stats_t) :: stats
-    logical :: converged
+    logical :: converged, cut_helps
     character(len=msg_len) :: why
     call sim%begin_step(t, dt, status)
-    if (status%ok()) call newton%solve_step(sim, log, timers, k, t, stats, converged, why, status)
+    if (status%ok()) call newton%solve_step(sim, log, timers, k, t, dt, stats, converged, cut_helps, why, status)
     call suite%assert_true(status%ok() .and. converged, trim(sim%name())//': step '//trim(itoa(k))// &
                            ' converges '//trim(why)//trim(status%msg))
     if (accept) call sim%accept_step()
