@@ -95,6 +95,7 @@ module simulation
     type(amg_params_t) :: amg                              !< &amg
     !> &amg for the displacement block's AMG (K, S*), adapted to the mesh (adapt_amg)
     type(amg_params_t) :: amg_k
+    logical :: on_slab = .false.                           !< adapt_amg found a slab with flat cells
     type(fsai_config_t) :: fsai                            !< &afsai, &block_fsai
     type(material_config_t), allocatable :: mats(:)        !< &material groups
     type(boundary_config_t), allocatable :: bcs(:)         !< &boundary groups (histories loaded)
@@ -324,6 +325,7 @@ contains
     self%amg_k = self%amg
     slab = find_slab(mesh)
     if (slab%axis == 0) return
+    self%on_slab = .true.
     self%amg_k = self%amg%for_slab()
     line = 'slab along '//achar(iachar('w') + slab%axis)//' ('//rtoa(slab%thickness)//' m thick, '// &
       rtoa(slab%width)//' m wide, cells flat up to 1:'//itoa(nint(slab%flatness))// &

@@ -10,11 +10,12 @@
 #    threshold 0.5, the set-up before) more than 2x: the ties this fixes;
 #  - contact: an inclined fault in the core (dip 30 degrees, friction 30
 #    degrees, compression with shear: it slips), FGMRES with the default
-#    (reordered) preconditioner: every Newton iteration's count within
-#    contact_factor times the elastic slab's, and MUMPS's jumps, tractions
-#    and statuses to 1e-6 (2 ranks). contact_factor is 3, not the
-#    deliverable's 1.5: S*'s AMG on the slab takes 2.3-2.9x the elastic
-#    count (README, Meshes: plane-strain slabs).
+#    (reordered) preconditioner: every Newton iteration's count within 1.5x
+#    the elastic slab's (S*'s BoomerAMG takes 2 sweeps on a slab), and
+#    MUMPS's jumps, tractions and statuses to 1e-6 (2 ranks);
+#  - fluid in that fault (a well injecting into it, FGMRES with the u-t-p
+#    preconditioner): every Newton iteration's count within 1.5x the
+#    elastic slab's.
 set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -22,7 +23,6 @@ PY=${PYTHON:-/usr/bin/python3}
 out=build/test-out/slab_amg
 rm -rf "$out"; mkdir -p "$out"
 pass=0; fail=0
-contact_factor=3
 ok() { echo "  ok    $1"; pass=$((pass + 1)); }
 ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
 run() {  # name, ranks
@@ -113,6 +113,8 @@ slab elastic_tie elasticity "method = 'cg', rtol = 1.0e-8, max_iter = 300, fail_
   "$(printf "&amg\n  slab_threshold = 0.0\n/")"
 slab contact contact "method = 'fgmres'" "$fault"
 slab contact_mumps contact "method = 'mumps'" "$fault"
+flow=$(printf "%s\n&fracture_flow\n  residual_aperture = 1.0e-4\n/\n&well\n  name = 'w', point = 0.0, 0.0, 0.005, rate = 1.0e-7\n/\n&time\n  dt = 1.0, t_end = 3.0\n/" "$fault")
+slab flow fracture_flow "method = 'fgmres'" "$flow"
 
 if run cube 1 && run elastic 1 && run elastic_mumps 1 && run elastic_tie 1; then
   nc=$(cg_its cube cube); ns=$(cg_its elastic); nt=$(cg_its elastic_tie)
@@ -131,14 +133,21 @@ if run cube 1 && run elastic 1 && run elastic_mumps 1 && run elastic_tie 1; then
   if run contact 2 && run contact_mumps 2; then
     its=$(newton_its contact/slab); worst=0
     for k in $its; do [ "$k" -gt "$worst" ] && worst=$k; done
-    if [ -n "$its" ] && [ "$worst" -le $((contact_factor * ns)) ]; then
-      ok "contact slab (2 ranks): FGMRES $its per Newton iteration, within ${contact_factor}x the elastic $ns"
-    else ko "contact slab (2 ranks): FGMRES '$its' per Newton iteration against the elastic $ns (${contact_factor}x allowed)"; fi
+    if [ -n "$its" ] && [ $((2 * worst)) -le $((3 * ns)) ]; then
+      ok "contact slab (2 ranks): FGMRES $its per Newton iteration, within 1.5x the elastic $ns"
+    else ko "contact slab (2 ranks): FGMRES '$its' per Newton iteration against the elastic $ns (1.5x allowed)"; fi
     grep -q 'stick/slip/open [0-9]*/[1-9][0-9]*/' "$out/contact/slab.log" && ok "contact slab: the fault slips" \
       || ko "contact slab: no slipping element"
     check "contact slab, FGMRES vs MUMPS, jumps, tractions, statuses (1e-6)" $PY tests/verification/check_contact.py \
       same "$out/contact_mumps/slab" "$out/contact/slab" 1e-6
   fi
+  if run flow 2; then
+    its=$(newton_its flow/slab); worst=0
+    for k in $its; do [ "$k" -gt "$worst" ] && worst=$k; done
+    if [ -n "$its" ] && [ $((2 * worst)) -le $((3 * ns)) ]; then
+      ok "fluid in the fault on the slab (2 ranks): FGMRES $its per Newton iteration, within 1.5x the elastic $ns"
+    else ko "fluid in the fault on the slab: FGMRES '$its' per Newton iteration against the elastic $ns (1.5x allowed)"; fi
+  fi
 fi
-echo "$pass passed, $fail failed"
+echo "suite slab_amg: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
