@@ -82,6 +82,8 @@ module deck
     character(len=line_len) :: var = ''   !< the variable assigned last in the group
     character :: last = ' '               !< last character of the group outside strings and comments
     integer :: ended = 0                  !< column of the '/' that ended a group on this line (0: none)
+    integer :: i = 0, j = 0               !< line and column scanned
+    character(len=line_len) :: ln = ''    !< line i
   end type text_scan_t
 
 contains
@@ -103,7 +105,7 @@ contains
     type(parallel_comm_t), intent(in) :: comm
     character(len=*), intent(in) :: path
     type(error_status_t), intent(inout) :: status
-    integer :: u, ios, n, i
+    integer :: u, ios, n, i, k
     character(len=msg_len) :: msg
     character(len=4096) :: buf
     character(len=line_len), allocatable :: tmp(:)
@@ -130,7 +132,12 @@ contains
           n = n + 1
           if (n > size(tmp)) tmp = [tmp, tmp]
           ! a file written on Windows: a carriage return is a blank to a namelist read
-          tmp(n) = blank_returns(buf(1:line_len))
+          k = index(buf, achar(13))
+          do while (k > 0)
+            buf(k:k) = ' '
+            k = index(buf, achar(13))
+          end do
+          tmp(n) = buf(1:line_len)
         end do
         close(u)
         if (ios < 0) ios = 0     ! end of file
@@ -152,17 +159,6 @@ contains
     if (status%ok()) call join_strings(self, status)
     if (status%ok()) call check_numbers(self, status)
   end subroutine load
-
-  !> s with its carriage returns turned into blanks.
-  pure function blank_returns(s) result(t)
-    character(len=*), intent(in) :: s
-    character(len=len(s)) :: t
-    integer :: k
-    t = s
-    do k = 1, len_trim(t)
-      if (t(k:k) == achar(13)) t(k:k) = ' '
-    end do
-  end function blank_returns
 
   !> A quoted string left open at the end of a line goes on at the start of
   !> the next: that text is moved up to the first line (the rest of the next
@@ -367,27 +363,29 @@ contains
     type(deck_t), intent(inout) :: self
     type(error_status_t), intent(inout) :: status
     type(text_scan_t) :: s
-    integer :: i, j, n
+    integer :: n
     allocate(self%group_name(16), self%group_first(16), self%group_last(16), self%group_col(16))
-    do i = 1, size(self%lines)
-      if (s%q /= ' ') call continued_string(self, s, i, status)
+    do while (s%i < size(self%lines))
+      s%i = s%i + 1
+      s%ln = self%lines(s%i)
+      if (s%q /= ' ') call continued_string(self, s, status)
       s%ended = 0
-      n = len_trim(self%lines(i))
-      j = 0
-      do while (j < n .and. status%ok())
-        j = j + 1
+      n = len_trim(s%ln)
+      s%j = 0
+      do while (s%j < n .and. status%ok())
+        s%j = s%j + 1
         if (s%q /= ' ') then
-          call string_char(self, s, i, j, status)
-        else if (self%lines(i)(j:j) == '!') then
+          call string_char(self, s, status)
+        else if (s%ln(s%j:s%j) == '!') then
           exit
         else if (s%in_group) then
-          call group_char(self, s, i, j, status)
+          call group_char(self, s, status)
         else
-          call outside_char(self, s, i, j, status)
+          call outside_char(self, s, status)
         end if
       end do
       if (.not. status%ok()) return
-      if (s%q /= ' ' .and. s%q_line < i) then
+      if (s%q /= ' ' .and. s%q_line < s%i) then
         call scan_fail(self, s%q_var, 'the quoted string opened on line '//itoa(s%q_line)// &
                        ' is not closed on that line or the next', status)
         return
@@ -405,140 +403,132 @@ contains
     end if
   end subroutine scan_groups
 
-  !> Line i goes on with a string left open at the end of line i - 1: it
-  !> must not be where a group ends or starts (then the string is what was
-  !> not closed).
-  subroutine continued_string(self, s, i, status)
+  !> The line goes on with a string left open at the end of the line before:
+  !> it must not be where a group ends or starts (then the string is what
+  !> was not closed).
+  subroutine continued_string(self, s, status)
     type(deck_t), intent(in) :: self
     type(text_scan_t), intent(in) :: s
-    integer, intent(in) :: i
     type(error_status_t), intent(inout) :: status
     character(len=line_len) :: t
-    t = adjustl(self%lines(i))
+    t = adjustl(s%ln)
     if (t(1:1) == '/' .and. index(' !', t(2:2)) > 0) then
       call scan_fail(self, s%q_var, 'the quoted string opened on line '//itoa(s%q_line)// &
-                     " is not closed before the '/' on line "//itoa(i), status)
+                     " is not closed before the '/' on line "//itoa(s%i), status)
     else if (t(1:1) == '&' .and. index(letters, t(2:2)) > 0) then
       call scan_fail(self, s%q_var, 'the quoted string opened on line '//itoa(s%q_line)// &
-                     ' is not closed before group '//trim(t(1:token_last(t, 2)))//' on line '//itoa(i), status)
+                     ' is not closed before group '//trim(t(1:token_last(t, 2)))//' on line '//itoa(s%i), status)
     end if
   end subroutine continued_string
 
-  !> Character j of line i inside a quoted string: the string's quote
-  !> closes it unless doubled; what follows must end the value.
-  subroutine string_char(self, s, i, j, status)
+  !> Character j inside a quoted string: the string's quote closes it unless
+  !> doubled; what follows must end the value.
+  subroutine string_char(self, s, status)
     type(deck_t), intent(in) :: self
     type(text_scan_t), intent(inout) :: s
-    integer, intent(in) :: i
-    integer, intent(inout) :: j
     type(error_status_t), intent(inout) :: status
-    character(len=line_len) :: ln
-    integer :: n
-    ln = self%lines(i)
-    n = len_trim(ln)
-    if (ln(j:j) /= s%q) return
+    integer :: j, n
+    j = s%j
+    n = len_trim(s%ln)
+    if (s%ln(j:j) /= s%q) return
     if (j < n) then
-      if (ln(j+1:j+1) == s%q) then
-        j = j + 1
+      if (s%ln(j+1:j+1) == s%q) then
+        s%j = j + 1
         return
       end if
     end if
     s%q = ' '
-    s%last = ln(j:j)
+    s%last = s%ln(j:j)
     if (j == n) return
-    if (index(after_string, ln(j+1:j+1)) > 0) return
+    if (index(after_string, s%ln(j+1:j+1)) > 0) return
     call scan_fail(self, s%q_var, 'the quoted string opened on line '//itoa(s%q_line)//' ends on line '// &
-                   itoa(i)//" right before '"//ln(j+1:min(n, token_last(ln, j+1), j+20))// &
+                   itoa(s%i)//" right before '"//s%ln(j+1:min(n, token_last(s%ln, j+1), j+20))// &
                    "' (a quote missing, or one too many?)", status)
   end subroutine string_char
 
-  !> Character j of line i inside a group, outside strings: a quote opens
-  !> a string, '/' ends the group, a name followed by '=' is the variable
-  !> assigned next; '&' is refused.
-  subroutine group_char(self, s, i, j, status)
+  !> Character j inside a group, outside strings: a quote opens a string,
+  !> '/' ends the group, a name followed by '=' is the variable assigned
+  !> next; '&' is refused.
+  subroutine group_char(self, s, status)
     type(deck_t), intent(inout) :: self
     type(text_scan_t), intent(inout) :: s
-    integer, intent(in) :: i
-    integer, intent(inout) :: j
     type(error_status_t), intent(inout) :: status
-    character(len=line_len) :: ln
+    integer :: j, k
     character :: ch
-    integer :: k
-    ln = self%lines(i)
-    ch = ln(j:j)
+    j = s%j
+    ch = s%ln(j:j)
     if (ch == ' ' .or. ch == tab) return
     if (ch == '"' .or. ch == "'") then
-      if (j > 1 .and. index(before_string, ln(max(j-1, 1):max(j-1, 1))) == 0) then
+      if (j > 1 .and. index(before_string, s%ln(max(j-1, 1):max(j-1, 1))) == 0) then
         k = j - 1
         do while (k > 1)
-          if (index(token_end, ln(k-1:k-1)) > 0) exit
+          if (index(token_end, s%ln(k-1:k-1)) > 0) exit
           k = k - 1
         end do
-        call scan_fail(self, s%var, 'a quote right after '''//ln(k:j-1)//''' on line '//itoa(i)// &
+        call scan_fail(self, s%var, 'a quote right after '''//s%ln(max(k, j-40):j-1)//''' on line '//itoa(s%i)// &
                        ' (a quote missing, or one too many?)', status)
         return
       end if
       s%q = ch
-      s%q_line = i
+      s%q_line = s%i
       s%q_var = s%var
     else if (ch == '/') then
-      self%group_last(self%n_groups) = i
+      self%group_last(self%n_groups) = s%i
       s%in_group = .false.
       s%ended = j
     else if (ch == '&') then
-      if (index(letters, ln(min(j+1, len(ln)):min(j+1, len(ln)))) > 0) then
-        call scan_fail(self, '', 'the group is not closed with / before group '//ln(j:token_last(ln, j+1))// &
-                       ' on line '//itoa(i), status)
+      if (index(letters, s%ln(min(j+1, line_len):min(j+1, line_len))) > 0) then
+        call scan_fail(self, '', 'the group is not closed with / before group '//s%ln(j:token_last(s%ln, j+1))// &
+                       ' on line '//itoa(s%i), status)
       else
-        call scan_fail(self, s%var, "'&' on line "//itoa(i)//' outside quotes (values go on over lines'// &
+        call scan_fail(self, s%var, "'&' on line "//itoa(s%i)//' outside quotes (values go on over lines'// &
                        ' without a continuation mark; a group ends with /)', status)
       end if
       return
     else if (index(token_end, ch) == 0) then
-      k = token_last(ln, j)
-      if (followed_by_equals(ln, k)) then
-        s%var = ln(j:k)
+      k = token_last(s%ln, j)
+      if (followed_by_equals(s%ln, k)) then
+        s%var = s%ln(j:k)
         if (index(s%var, '(') > 1) s%var = s%var(1:index(s%var, '(') - 1)
       end if
-      j = k
+      s%j = k
     end if
-    s%last = ln(j:j)
+    s%last = s%ln(s%j:s%j)
   end subroutine group_char
 
-  !> Character j of line i outside the groups: '&name' starts a group;
-  !> anything else is refused.
-  subroutine outside_char(self, s, i, j, status)
+  !> Character j outside the groups: '&name' starts a group; anything else
+  !> is refused.
+  subroutine outside_char(self, s, status)
     type(deck_t), intent(inout) :: self
     type(text_scan_t), intent(inout) :: s
-    integer, intent(in) :: i
-    integer, intent(inout) :: j
     type(error_status_t), intent(inout) :: status
-    character(len=line_len) :: ln
-    character :: ch
-    integer :: k, n
-    ln = self%lines(i)
-    ch = ln(j:j)
-    if (ch == ' ' .or. ch == tab) return
-    if (ch /= '&') then
-      n = len_trim(ln)
+    integer :: j, k
+    j = s%j
+    if (s%ln(j:j) == ' ' .or. s%ln(j:j) == tab) return
+    if (s%ln(j:j) /= '&') then
       if (s%ended > 0) then
-        call scan_fail(self, s%var, "the '/' on line "//itoa(i)//' ends the group, and text follows: '''// &
-                       ln(j:min(n, j + 40))//''' (is a quote missing?)', status)
+        call scan_fail(self, s%var, "the '/' on line "//itoa(s%i)//' ends the group, and text follows: '''// &
+                       s%ln(j:min(len_trim(s%ln), j + 40))//''' (is a quote missing?)', status)
       else if (self%n_groups > 0) then
-        call status%set("deck '"//trim(self%path)//"', line "//itoa(i)//': text outside a namelist group'// &
+        call status%set("deck '"//trim(self%path)//"', line "//itoa(s%i)//': text outside a namelist group'// &
           ' (after group &'//trim(self%group_name(self%n_groups))//' of line '// &
           itoa(self%group_first(self%n_groups))//'; groups start with &name and end with /)')
       else
-        call status%set("deck '"//trim(self%path)//"', line "//itoa(i)// &
+        call status%set("deck '"//trim(self%path)//"', line "//itoa(s%i)// &
           ': text outside a namelist group (groups start with &name and end with /)')
       end if
       return
     end if
     k = j + 1
-    do while (k <= len_trim(ln))
-      if (index(name_chars, ln(k:k)) == 0) exit
+    do while (k <= len_trim(s%ln))
+      if (index(name_chars, s%ln(k:k)) == 0) exit
       k = k + 1
     end do
+    if (k == j + 1) then
+      call status%set("deck '"//trim(self%path)//"', line "//itoa(s%i)// &
+        ": '&' without a group name (groups start with &name and end with /)")
+      return
+    end if
     if (self%n_groups == size(self%group_name)) then
       self%group_name = [self%group_name, self%group_name]
       self%group_first = [self%group_first, self%group_first]
@@ -546,13 +536,13 @@ contains
       self%group_col = [self%group_col, self%group_col]
     end if
     self%n_groups = self%n_groups + 1
-    self%group_name(self%n_groups) = lower(ln(j+1:k-1))
-    self%group_first(self%n_groups) = i
+    self%group_name(self%n_groups) = lower(s%ln(j+1:k-1))
+    self%group_first(self%n_groups) = s%i
     self%group_col(self%n_groups) = j
     s%in_group = .true.
     s%var = ''
     s%last = ' '
-    j = k - 1
+    s%j = k - 1
   end subroutine outside_char
 
   !> An error of the scan in the last group found: "deck 'path', group
