@@ -6,13 +6,18 @@
 !> rank sees the same errors and can stop together. Error messages name the
 !> deck, the group, the line and, where it can be found, the variable.
 !>
-!> Two checks run on the text before any group is read, because a namelist
-!> read accepts what they catch without a word: every number must be finite
-!> (gfortran reads nan, inf and 1e400 into a real as NaN or Infinity, and
-!> the checked build traps on the last), and a
-!> character string continued on the next line is joined to its first line
-!> without the blanks that pad the stored line (the end of a record is not
-!> part of a continued string, Fortran 2008, 10.11.3.3).
+!> The text is checked before any namelist read sees it, so that the
+!> run-time library only ever reads well-formed groups: a scan of the whole
+!> deck finds the groups and refuses, naming the group and the line, a
+!> quoted string left open (it may go on over one line end only), a group
+!> not closed with / before the next group or the end of the file, text
+!> outside the groups and a stray '&'. Then a character string continued
+!> on the next line is joined to its first line without the blanks that pad
+!> the stored line (the end of a record is not part of a continued string,
+!> Fortran 2008, 10.11.3.3), and every number must be finite (a namelist
+!> read accepts nan, inf and 1e400 into a real as NaN or Infinity without a
+!> word, and the checked build traps on the last): a check of every value
+!> token of every group, whatever the variable's type.
 module deck
   use kinds, only: ip, rp, path_len, msg_len, name_len
   use parallel_comm, only: parallel_comm_t
@@ -27,6 +32,12 @@ module deck
 
   integer, parameter :: line_len = 256
   character(len=*), parameter :: name_chars = 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_'
+  character(len=*), parameter :: letters = name_chars(1:52)
+  character, parameter :: tab = achar(9)
+  !> what ends a value token (gfortran also takes ';' as a separator)
+  character(len=*), parameter :: token_end = ' ,=/!;&"'''//tab
+  !> what may stand right before an opening quote, and right after a closing one
+  character(len=*), parameter :: before_string = ' ,=*;'//tab, after_string = ' ,/!;'//tab
   !> Sentinels for values the deck did not set.
   real(rp), parameter :: unset_real = -huge(1.0_rp)
   integer, parameter :: unset_int = -huge(1)
@@ -36,7 +47,8 @@ module deck
     character(len=line_len), allocatable :: lines(:)
     integer :: n_groups = 0
     character(len=name_len), allocatable :: group_name(:)
-    integer, allocatable :: group_first(:), group_last(:)
+    !> lines of each group; the column of its '&' on its first line
+    integer, allocatable :: group_first(:), group_last(:), group_col(:)
   contains
     procedure :: load
     procedure :: count => count_groups
@@ -60,6 +72,20 @@ module deck
     logical :: is_name = .false.
   end type value_token_t
 
+  !> Where the scan of the deck's text (scan_groups) stands, and what an
+  !> error there names.
+  type :: text_scan_t
+    logical :: in_group = .false.
+    character :: q = ' '                  !< quote of the open string (' ': none)
+    integer :: q_line = 0                 !< line where that string opened
+    character(len=line_len) :: q_var = '' !< the variable it is assigned to
+    character(len=line_len) :: var = ''   !< the variable assigned last in the group
+    character :: last = ' '               !< last character of the group outside strings and comments
+    integer :: ended = 0                  !< column of the '/' that ended a group on this line (0: none)
+    integer :: i = 0, j = 0               !< line and column scanned
+    character(len=line_len) :: ln = ''    !< line i
+  end type text_scan_t
+
 contains
 
   logical elemental function is_set_real(x)
@@ -79,7 +105,7 @@ contains
     type(parallel_comm_t), intent(in) :: comm
     character(len=*), intent(in) :: path
     type(error_status_t), intent(inout) :: status
-    integer :: u, ios, n, i
+    integer :: u, ios, n, i, k
     character(len=msg_len) :: msg
     character(len=4096) :: buf
     character(len=line_len), allocatable :: tmp(:)
@@ -105,6 +131,12 @@ contains
           end if
           n = n + 1
           if (n > size(tmp)) tmp = [tmp, tmp]
+          ! a file written on Windows: a carriage return is a blank to a namelist read
+          k = index(buf, achar(13))
+          do while (k > 0)
+            buf(k:k) = ' '
+            k = index(buf, achar(13))
+          end do
           tmp(n) = buf(1:line_len)
         end do
         close(u)
@@ -123,32 +155,31 @@ contains
     do i = 1, n
       call comm%bcast(self%lines(i))
     end do
-    call join_strings(self, status)
-    if (status%ok()) call split_groups(self, status)
+    call scan_groups(self, status)
+    if (status%ok()) call join_strings(self, status)
     if (status%ok()) call check_numbers(self, status)
   end subroutine load
 
   !> A quoted string left open at the end of a line goes on at the start of
   !> the next: that text is moved up to the first line (the rest of the next
-  !> line stays where it is, so line numbers keep their meaning).
+  !> line stays where it is, so line numbers keep their meaning). Runs after
+  !> scan_groups, which made sure that every such string closes on the next
+  !> line.
   subroutine join_strings(self, status)
     type(deck_t), intent(inout) :: self
     type(error_status_t), intent(inout) :: status
     integer :: i, j, n
     character :: q
     character(len=msg_len) :: m
-    q = ' '
-    i = 1
-    do while (i <= size(self%lines))
+    do i = 1, size(self%lines) - 1
+      q = open_quote(self%lines(i), ' ')
+      if (q == ' ') cycle
       n = len_trim(self%lines(i))
-      q = open_quote(self%lines(i), q)
-      if (q == ' ' .or. i == size(self%lines)) then
-        i = i + 1
-        cycle
+      j = string_end(self%lines(i + 1), q)
+      if (j == 0) then
+        call status%set("deck '"//trim(self%path)//"', line "//itoa(i)//": a quoted string is not closed")
+        return
       end if
-      ! the next line up to the closing quote (or all of it) joins line i
-      j = index(self%lines(i + 1), q)
-      if (j == 0) j = len_trim(self%lines(i + 1))
       if (n + j > line_len) then
         write(m, '(a,i0,a,i0,a)') "deck '"//trim(self%path)//"', line ", i, &
           ": a quoted string continued on the next line makes the line longer than ", line_len, " characters"
@@ -157,10 +188,28 @@ contains
       end if
       self%lines(i)(n + 1:n + j) = self%lines(i + 1)(1:j)
       self%lines(i + 1) = repeat(' ', j)//self%lines(i + 1)(j + 1:)
-      q = ' '
-      ! line i is scanned again: its string may now be closed, or another opened
     end do
   end subroutine join_strings
+
+  !> Position in s of the quote q that closes a string open at the start of
+  !> s (0 if none); a doubled quote stands for one and does not close it.
+  pure integer function string_end(s, q)
+    character(len=*), intent(in) :: s
+    character, intent(in) :: q
+    integer :: k, n
+    string_end = 0
+    n = len_trim(s)
+    k = 1
+    do while (k <= n)
+      if (s(k:k) == q) then
+        if (k == n) exit
+        if (s(k+1:k+1) /= q) exit
+        k = k + 1
+      end if
+      k = k + 1
+    end do
+    if (k <= n) string_end = k
+  end function string_end
 
   !> The quote character still open at the end of line s (' ' if none),
   !> given the one open at its start; a '!' outside quotes ends the scan.
@@ -230,7 +279,7 @@ contains
       j = 0
       if (i == self%group_first(g)) then
         ! skip '&' and the group's name
-        j = index(ln, '&')
+        j = self%group_col(g)
         do while (j < len_trim(ln))
           if (index(name_chars, ln(j+1:j+1)) == 0) exit
           j = j + 1
@@ -247,13 +296,8 @@ contains
           cycle
         end if
         if (ln(j:j) == '!' .or. ln(j:j) == '/') exit
-        if (index(' ,='//char(9), ln(j:j)) > 0) cycle
-        ! a token: up to the next separator
-        k = j
-        do while (k < len_trim(ln))
-          if (index(' ,=/!"'''//char(9), ln(k+1:k+1)) > 0) exit
-          k = k + 1
-        end do
+        if (index(' ,=;'//tab, ln(j:j)) > 0) cycle
+        k = token_last(ln, j)
         tok = ln(j:k)
         j = k
         if (n == size(vals)) vals = [vals, vals]
@@ -265,8 +309,8 @@ contains
           cycle
         end if
         if (index(tok, '*') > 0) tok = tok(index(tok, '*') + 1:)
-        vals(n)%text = tok
-        vals(n)%var = var
+        ! the whole token: vals grew by copies, whose is_name may be true
+        vals(n) = value_token_t(text=tok, var=var, is_name=.false.)
       end do
     end do
     vals = vals(1:n)
@@ -297,75 +341,222 @@ contains
     occurrence = count(self%group_name(1:g) == self%group_name(g))
   end function occurrence
 
-  !> Find the group blocks: from '&name' to the '/' that ends it (outside
-  !> quotes and comments).
-  subroutine split_groups(self, status)
+  !> The last position of the token that starts at position j of s.
+  pure integer function token_last(s, j)
+    character(len=*), intent(in) :: s
+    integer, intent(in) :: j
+    token_last = j
+    do while (token_last < len_trim(s))
+      if (index(token_end, s(token_last+1:token_last+1)) > 0) exit
+      token_last = token_last + 1
+    end do
+  end function token_last
+
+  !> Find the group blocks, from '&name' to the '/' that ends it outside
+  !> quotes and comments, and refuse the text a namelist read could not take
+  !> or could mistake: a quoted string not closed on its line or the next
+  !> (or closed right before more text), a group not closed before the next
+  !> one or the end of the file, text outside the groups, a stray '&'.
+  !> Every error names the group, the line and, where it is known, the
+  !> variable.
+  subroutine scan_groups(self, status)
     type(deck_t), intent(inout) :: self
     type(error_status_t), intent(inout) :: status
-    integer :: i, j, k, cap
-    character :: q, ch
-    character(len=line_len) :: ln
-    logical :: in_group
-    character(len=msg_len) :: m
-    cap = 16
-    allocate(self%group_name(cap), self%group_first(cap), self%group_last(cap))
-    in_group = .false.
-    q = ' '
-    do i = 1, size(self%lines)
-      j = 0
-      ln = self%lines(i)
-      do while (j < len_trim(ln))
-        j = j + 1
-        ch = ln(j:j)
-        if (q /= ' ') then
-          if (ch == q) q = ' '
-          cycle
-        end if
-        if (ch == '!') exit
-        if (.not. in_group) then
-          if (ch == '&') then
-            k = j + 1
-            do while (k <= len_trim(self%lines(i)))
-              if (index(name_chars, self%lines(i)(k:k)) == 0) exit
-              k = k + 1
-            end do
-            if (self%n_groups == cap) then
-              cap = 2 * cap
-              self%group_name = [self%group_name, self%group_name]
-              self%group_first = [self%group_first, self%group_first]
-              self%group_last = [self%group_last, self%group_last]
-            end if
-            self%n_groups = self%n_groups + 1
-            self%group_name(self%n_groups) = lower(self%lines(i)(j+1:k-1))
-            self%group_first(self%n_groups) = i
-            in_group = .true.
-            j = k - 1
-          else if (ch /= ' ' .and. ch /= char(9)) then
-            write(m, '(a,i0,a)') "deck '"//trim(self%path)//"', line ", i, &
-              ": text outside a namelist group (groups start with &name and end with /)"
-            call status%set(m)
-            return
-          end if
+    type(text_scan_t) :: s
+    integer :: n
+    allocate(self%group_name(16), self%group_first(16), self%group_last(16), self%group_col(16))
+    do while (s%i < size(self%lines))
+      s%i = s%i + 1
+      s%ln = self%lines(s%i)
+      if (s%q /= ' ') call continued_string(self, s, status)
+      s%ended = 0
+      n = len_trim(s%ln)
+      s%j = 0
+      do while (s%j < n .and. status%ok())
+        s%j = s%j + 1
+        if (s%q /= ' ') then
+          call string_char(self, s, status)
+        else if (s%ln(s%j:s%j) == '!') then
+          exit
+        else if (s%in_group) then
+          call group_char(self, s, status)
         else
-          if (ch == '"' .or. ch == "'") then
-            q = ch
-          else if (ch == '/') then
-            self%group_last(self%n_groups) = i
-            in_group = .false.
-          else if (ch == '&') then
-            write(m, '(a,i0,a)') "deck '"//trim(self%path)//"', line ", i, ": group &"// &
-              trim(self%group_name(self%n_groups))//" is not closed with / before the next group"
-            call status%set(m)
-            return
-          end if
+          call outside_char(self, s, status)
         end if
       end do
+      if (.not. status%ok()) return
+      if (s%q /= ' ' .and. s%q_line < s%i) then
+        call scan_fail(self, s%q_var, 'the quoted string opened on line '//itoa(s%q_line)// &
+                       ' is not closed on that line or the next', status)
+        return
+      end if
     end do
-    if (in_group) then
-      call status%set("deck '"//trim(self%path)//"': group &"//trim(self%group_name(self%n_groups))// &
-                      " is not closed with /")
+    if (s%q /= ' ') then
+      call scan_fail(self, s%q_var, 'the quoted string opened on line '//itoa(s%q_line)// &
+                     ' is not closed before the end of the file', status)
+    else if (s%in_group .and. (s%last == '=' .or. s%last == ',')) then
+      call scan_fail(self, s%var, 'the file ends (line '//itoa(size(self%lines))// &
+                     ') in its value; the group is not closed with /', status)
+    else if (s%in_group) then
+      call scan_fail(self, '', 'the group is not closed with / before the end of the file (line '// &
+                     itoa(size(self%lines))//')', status)
     end if
-  end subroutine split_groups
+  end subroutine scan_groups
+
+  !> The line goes on with a string left open at the end of the line before:
+  !> it must not be where a group ends or starts (then the string is what
+  !> was not closed).
+  subroutine continued_string(self, s, status)
+    type(deck_t), intent(in) :: self
+    type(text_scan_t), intent(in) :: s
+    type(error_status_t), intent(inout) :: status
+    character(len=line_len) :: t
+    t = adjustl(s%ln)
+    if (t(1:1) == '/' .and. index(' !', t(2:2)) > 0) then
+      call scan_fail(self, s%q_var, 'the quoted string opened on line '//itoa(s%q_line)// &
+                     " is not closed before the '/' on line "//itoa(s%i), status)
+    else if (t(1:1) == '&' .and. index(letters, t(2:2)) > 0) then
+      call scan_fail(self, s%q_var, 'the quoted string opened on line '//itoa(s%q_line)// &
+                     ' is not closed before group '//trim(t(1:token_last(t, 2)))//' on line '//itoa(s%i), status)
+    end if
+  end subroutine continued_string
+
+  !> Character j inside a quoted string: the string's quote closes it unless
+  !> doubled; what follows must end the value.
+  subroutine string_char(self, s, status)
+    type(deck_t), intent(in) :: self
+    type(text_scan_t), intent(inout) :: s
+    type(error_status_t), intent(inout) :: status
+    integer :: j, n
+    j = s%j
+    n = len_trim(s%ln)
+    if (s%ln(j:j) /= s%q) return
+    if (j < n) then
+      if (s%ln(j+1:j+1) == s%q) then
+        s%j = j + 1
+        return
+      end if
+    end if
+    s%q = ' '
+    s%last = s%ln(j:j)
+    if (j == n) return
+    if (index(after_string, s%ln(j+1:j+1)) > 0) return
+    call scan_fail(self, s%q_var, 'the quoted string opened on line '//itoa(s%q_line)//' ends on line '// &
+                   itoa(s%i)//" right before '"//s%ln(j+1:min(n, token_last(s%ln, j+1), j+20))// &
+                   "' (a quote missing, or one too many?)", status)
+  end subroutine string_char
+
+  !> Character j inside a group, outside strings: a quote opens a string,
+  !> '/' ends the group, a name followed by '=' is the variable assigned
+  !> next; '&' is refused.
+  subroutine group_char(self, s, status)
+    type(deck_t), intent(inout) :: self
+    type(text_scan_t), intent(inout) :: s
+    type(error_status_t), intent(inout) :: status
+    integer :: j, k
+    character :: ch
+    j = s%j
+    ch = s%ln(j:j)
+    if (ch == ' ' .or. ch == tab) return
+    if (ch == '"' .or. ch == "'") then
+      if (j > 1 .and. index(before_string, s%ln(max(j-1, 1):max(j-1, 1))) == 0) then
+        k = j - 1
+        do while (k > 1)
+          if (index(token_end, s%ln(k-1:k-1)) > 0) exit
+          k = k - 1
+        end do
+        call scan_fail(self, s%var, 'a quote right after '''//s%ln(max(k, j-40):j-1)//''' on line '//itoa(s%i)// &
+                       ' (a quote missing, or one too many?)', status)
+        return
+      end if
+      s%q = ch
+      s%q_line = s%i
+      s%q_var = s%var
+    else if (ch == '/') then
+      self%group_last(self%n_groups) = s%i
+      s%in_group = .false.
+      s%ended = j
+    else if (ch == '&') then
+      if (index(letters, s%ln(min(j+1, line_len):min(j+1, line_len))) > 0) then
+        call scan_fail(self, '', 'the group is not closed with / before group '//s%ln(j:token_last(s%ln, j+1))// &
+                       ' on line '//itoa(s%i), status)
+      else
+        call scan_fail(self, s%var, "'&' on line "//itoa(s%i)//' outside quotes (values go on over lines'// &
+                       ' without a continuation mark; a group ends with /)', status)
+      end if
+      return
+    else if (index(token_end, ch) == 0) then
+      k = token_last(s%ln, j)
+      if (followed_by_equals(s%ln, k)) then
+        s%var = s%ln(j:k)
+        if (index(s%var, '(') > 1) s%var = s%var(1:index(s%var, '(') - 1)
+      end if
+      s%j = k
+    end if
+    s%last = s%ln(s%j:s%j)
+  end subroutine group_char
+
+  !> Character j outside the groups: '&name' starts a group; anything else
+  !> is refused.
+  subroutine outside_char(self, s, status)
+    type(deck_t), intent(inout) :: self
+    type(text_scan_t), intent(inout) :: s
+    type(error_status_t), intent(inout) :: status
+    integer :: j, k
+    j = s%j
+    if (s%ln(j:j) == ' ' .or. s%ln(j:j) == tab) return
+    if (s%ln(j:j) /= '&') then
+      if (s%ended > 0) then
+        call scan_fail(self, s%var, "the '/' on line "//itoa(s%i)//' ends the group, and text follows: '''// &
+                       s%ln(j:min(len_trim(s%ln), j + 40))//''' (is a quote missing?)', status)
+      else if (self%n_groups > 0) then
+        call status%set("deck '"//trim(self%path)//"', line "//itoa(s%i)//': text outside a namelist group'// &
+          ' (after group &'//trim(self%group_name(self%n_groups))//' of line '// &
+          itoa(self%group_first(self%n_groups))//'; groups start with &name and end with /)')
+      else
+        call status%set("deck '"//trim(self%path)//"', line "//itoa(s%i)// &
+          ': text outside a namelist group (groups start with &name and end with /)')
+      end if
+      return
+    end if
+    k = j + 1
+    do while (k <= len_trim(s%ln))
+      if (index(name_chars, s%ln(k:k)) == 0) exit
+      k = k + 1
+    end do
+    if (k == j + 1) then
+      call status%set("deck '"//trim(self%path)//"', line "//itoa(s%i)// &
+        ": '&' without a group name (groups start with &name and end with /)")
+      return
+    end if
+    if (self%n_groups == size(self%group_name)) then
+      self%group_name = [self%group_name, self%group_name]
+      self%group_first = [self%group_first, self%group_first]
+      self%group_last = [self%group_last, self%group_last]
+      self%group_col = [self%group_col, self%group_col]
+    end if
+    self%n_groups = self%n_groups + 1
+    self%group_name(self%n_groups) = lower(s%ln(j+1:k-1))
+    self%group_first(self%n_groups) = s%i
+    self%group_col(self%n_groups) = j
+    s%in_group = .true.
+    s%var = ''
+    s%last = ' '
+    s%j = k - 1
+  end subroutine outside_char
+
+  !> An error of the scan in the last group found: "deck 'path', group
+  !> &name (line of its start)[, variable var]: what".
+  subroutine scan_fail(self, var, what, status)
+    type(deck_t), intent(in) :: self
+    character(len=*), intent(in) :: var, what
+    type(error_status_t), intent(inout) :: status
+    character(len=:), allocatable :: m
+    m = "deck '"//trim(self%path)//"', group &"//trim(self%group_name(self%n_groups))//' (line '// &
+        itoa(self%group_first(self%n_groups))//')'
+    if (len_trim(var) > 0) m = m//', variable '//trim(var)
+    call status%set(m//': '//what)
+  end subroutine scan_fail
 
   !> Number of occurrences of group name.
   integer function count_groups(self, name)
@@ -391,7 +582,7 @@ contains
         first = self%group_first(g)
         last = self%group_last(g)
         b = self%lines(first:last)
-        b(1) = b(1)(index(b(1), '&'):)
+        b(1) = b(1)(self%group_col(g):)
         return
       end if
     end do
@@ -629,6 +820,7 @@ contains
     type(value_token_t), allocatable :: vals(:)
     integer :: g, n
     assigned = .false.
+    allocate(vals(0))
     n = 0
     do g = 1, self%n_groups
       if (self%group_name(g) /= name) cycle
