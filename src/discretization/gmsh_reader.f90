@@ -588,7 +588,6 @@ contains
     call reserve_i2(c%quad_nodes, 4_ip, n_new)
     call reserve_i1(c%quad_key, n_new)
     call reserve_g1(c%quad_elem, n_new)
-    elem_tag = 0
     do e = 1, n_in
       call read_element_line(f, c, 'a quadrangle "elementTag node1 ... node4"', nodes, status, elem_tag)
       if (.not. status%ok()) return
@@ -616,6 +615,7 @@ contains
 
     iom = ''   ! iomsg is left alone by successful reads; messages may quote it
     nodes = 0
+    if (present(elem_tag)) elem_tag = 0
     call next_line(f, what, status)
     if (.not. status%ok()) return
     read(f%line, *, iostat=ios, iomsg=iom) tag, node_tags
