@@ -1016,11 +1016,16 @@ contains
         if (self%trac(1, e) > tol * t_ref) then
           new = state_open
         else if (norm2(self%trac(2:3, e) + self%area(e) / self%s(e) * dg) < tau - tol * t_ref .or. &
-                 dot_product(self%trac(2:3, e), dg) < 0.0_rp) then
+                 dot_product(self%trac(2:3, e), self%area(e) / self%s(e) * dg) < &
+                 -tol * t_ref * norm2(self%trac(2:3, e))) then
           ! |z| below the limit, or the slip increment against the friction
-          ! traction (which the slip rows set along the last direction):
-          ! the slip turned back, and an element that reverses passes
-          ! through stick
+          ! traction (which the slip rows set along the last direction) by
+          ! more than the tolerance, as a traction c dg: the slip turned
+          ! back, and an element that reverses passes through stick. (Without
+          ! it, the elements of a fault whose slip front outran the pressure
+          ! swapped t_T = +tau and -tau at every Newton iteration, each
+          ! increment c |dg| far above 2 tau, with no status change, for 30
+          ! iterations.)
           new = state_stick
         end if
       case (state_open)

@@ -41,20 +41,23 @@ program test_contact_states
   ! starts from and the status update_states must give it
   integer, parameter :: to_slip = 1, below_tau = 2, above_tau_within = 3, stick_to_open = 4, &
                         tension_within = 5, slip_to_open = 6, slip_to_stick = 7, slip_within = 8, &
-                        open_to_stick = 9, open_wide = 10, closing_within = 11, n_kinds = 11
+                        open_to_stick = 9, open_wide = 10, closing_within = 11, slip_reversed = 12, n_kinds = 12
   integer, parameter :: from(n_kinds) = [state_stick, state_stick, state_stick, state_stick, state_stick, &
-                                         state_slip, state_slip, state_slip, state_open, state_open, state_open]
+                                         state_slip, state_slip, state_slip, state_open, state_open, state_open, &
+                                         state_slip]
   integer, parameter :: to(n_kinds) = [state_slip, state_stick, state_stick, state_open, state_stick, &
-                                       state_open, state_stick, state_slip, state_stick, state_open, state_open]
+                                       state_open, state_stick, state_slip, state_stick, state_open, state_open, &
+                                       state_stick]
   !> each kind's margin from its limit, in tolerances (tol t_ref in traction, tol g_ref in normal jump): 2
   !> beyond it for a change, 1/2 short of it for none (open_wide: g_N = g_ref instead)
   real(rp), parameter :: margin(n_kinds) = [2.0_rp, -0.5_rp, 0.5_rp, 2.0_rp, 0.5_rp, 2.0_rp, -2.0_rp, -0.5_rp, &
-                                            -2.0_rp, 0.0_rp, -0.5_rp]
+                                            -2.0_rp, 0.0_rp, -0.5_rp, 2.0_rp]
   character(len=40), parameter :: kind_names(n_kinds) = [character(len=40) :: &
     '|t_T| = tau + 2 tol t_ref', '|t_T| = tau - tol t_ref / 2', '|t_T| = tau + tol t_ref / 2', &
     't_N = 2 tol t_ref, |t_T| > tau', 't_N = tol t_ref / 2', 't_N = 2 tol t_ref', &
     '|t_T + (A/s) dg| = tau - 2 tol t_ref', '|t_T + (A/s) dg| = tau - tol t_ref / 2', &
-    'g_N = -2 tol g_ref', 'g_N = g_ref > 0', 'g_N = -tol g_ref / 2']
+    'g_N = -2 tol g_ref', 'g_N = g_ref > 0', 'g_N = -tol g_ref / 2', &
+    '|z| = tau + 2 tol t_ref, c dg vs t_T < 0']
   real(rp), parameter :: tol = 1.0e-6_rp            !< the status tolerance (the deck's default)
   real(rp), parameter :: t0 = 1.0e7_rp              !< compression [Pa]: the largest |traction|, so t_ref
   real(rp), parameter :: g0 = 1.0e-3_rp             !< opening of open_wide [m]: the largest |jump|, so g_ref
@@ -116,8 +119,8 @@ program test_contact_states
   want = to(how)
   want_fresh = from(how) == state_stick .and. to(how) == state_slip
   changed = ct%update_states(dm, tol)
-  ! 32 elements: kinds 1 to 10 on 3 each, 11 on 2; kinds 1, 4, 6, 7 and 9 change
-  call check('kinds', changed, 15)
+  ! 32 elements: kinds 1 to 8 on 3 each, 9 to 12 on 2; kinds 1, 4, 6, 7, 9 and 12 change
+  call check('kinds', changed, 16)
   do k = 1, n_kinds
     call suite%assert_true(.not. comm%any_true(any(pack(ct%state(1:nown), how(1:nown) == k) /= to(k))), &
       'kind '//itoa(k)//': '//trim(state_names(from(k)))//' with '//trim(kind_names(k))//' -> '// &
@@ -239,6 +242,13 @@ contains
       ! on the limit, with a slip increment against it: |t_T + c dg| = tau + dt
       ct%trac(2:3, e) = tau * dir
       ct%jump(2:3, e) = ct%jump(2:3, e) + dt / c * dir
+    case (slip_reversed)
+      ! on the limit, the slip increment reversed: c dg = -(2 tau + dt) along
+      ! t_T, so z = t_T + c dg = -(tau + dt) d lies beyond the limit (|z| >
+      ! tau: slip by the |z| test alone, the direction swapped), but the slip
+      ! turned back against the traction: stick
+      ct%trac(2:3, e) = tau * dir
+      ct%jump(2:3, e) = ct%jump(2:3, e) - (2.0_rp * tau + dt) / c * dir
     case (open_to_stick, open_wide, closing_within)        ! open: no traction
       ct%trac(:, e) = 0.0_rp
       ct%jump(1, e) = merge(g0, margin(k) * tol * g0, k == open_wide)
