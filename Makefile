@@ -135,6 +135,10 @@ reference: all
 	OMPI_MCA_rmaps_base_oversubscribe=1 $(EXE) --reference > doc/reference/decks.md
 	@echo "wrote doc/reference/decks.md"
 
+# The manual's pictures (doc/images/), from small runs of the tutorials' decks.
+images: all
+	@bash postproc/make_images.sh
+
 clean:
 	rm -rf build bin
 

@@ -236,7 +236,7 @@ if run block_mumps_bubble 2 && run block_mumps1_bubble 1; then
   run block_augmented_bubble 2 && check "space bubble: FGMRES with the augmented preconditioner vs MUMPS (1e-6)" $PY \
     tests/verification/check_contact.py same "$out/block_mumps_bubble" "$out/block_augmented_bubble" 1e-6
   # W(3,3) cycles on S* (the configuration whose counts stay within 1.3x
-  # over the 5 levels, README: Stable space), and S* by 2 CG steps
+  # over the 5 levels, doc/contact.md: stable space), and S* by 2 CG steps
   stronger block_augmented_bubble_w3 block_augmented_bubble block_mumps_bubble \
     "space bubble: augmented with W(3,3) cycles on S*" \
     "&contact\n  space = 'bubble'\n/\n&amg\n  cycle_type = 'w', num_sweeps = 3\n/\n"
