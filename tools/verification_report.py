@@ -29,7 +29,7 @@ import sys
 
 NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 RE_TOL = re.compile(r"\((?:tol(?:erance)?|required)\s*(?:<=\s*)?([^)]*?)\)")
-RE_LE = re.compile(r"(" + NUM + r")\s*(<=|<)\s*(" + NUM + r")")
+RE_LE = re.compile(r"(" + NUM + r")\s*(<=|<)\s*(" + NUM + r")(?!\s*[A-Za-z(])")
 RE_GE = re.compile(r"(" + NUM + r")\s*>=\s*(" + NUM + r")")
 RE_NUM = re.compile(NUM)
 
@@ -84,36 +84,47 @@ def verification_suites(suites_txt="tests/suites.txt"):
 
 
 def about(command):
-    """The first line of the suite's header comment: what it verifies."""
+    """What the suite verifies, in a few words: the first sentence (up to a
+    colon or a full stop outside parentheses) of its header comment (a
+    script's leading comment, a test program's comment above `program`)."""
     w = command.split()
-    if w[0] == "script":
-        path = w[1]
-        lead = "#"
-    else:
-        found = [os.path.join(d, w[1] + ".f90") for d, _, fs in os.walk("tests") if w[1] + ".f90" in fs]
-        if not found:
-            return ""
-        path, lead = found[0], "!>"
     try:
-        with open(path) as f:
-            lines = f.read().split("\n")
-    except OSError:
+        if w[0] == "script":
+            with open(w[1]) as f:
+                lines = f.read().split("\n")
+            text = []
+            for line in lines:
+                t = line.strip()
+                if t.startswith("#!"):
+                    continue
+                if t.startswith("#"):
+                    text.append(t.lstrip("#").strip())
+                elif t.startswith('"""'):
+                    text.append(t.strip('"').strip())
+                    break
+                elif text or t:
+                    break
+        else:
+            found = [os.path.join(d, w[1] + ".f90") for d, _, fs in os.walk("tests") if w[1] + ".f90" in fs]
+            with open(found[0]) as f:
+                lines = f.read().split("\n")
+            k = next(i for i, l in enumerate(lines) if re.match(r"^\s*program\s", l, re.I))
+            j = k
+            while j > 0 and lines[j - 1].strip().startswith("!>"):
+                j -= 1
+            text = [l.strip()[2:].strip() for l in lines[j:k]]
+    except (OSError, IndexError, StopIteration):
         return ""
-    text = []
-    for line in lines:
-        s = line.strip()
-        if s.startswith("#!"):
-            continue
-        if s.startswith(lead) or (lead == "#" and s.startswith('"""')):
-            t = s[len(lead):].strip() if s.startswith(lead) else s.strip('"').strip()
-            if not t and text:
-                break
-            text.append(t)
-            if t.endswith((".", ":")):
-                break
-        elif text or s:
-            break
-    return " ".join(text).rstrip(":")
+    joined = " ".join(t for t in text if t)
+    depth = 0
+    for i, ch in enumerate(joined):
+        if ch == "(":
+            depth += 1
+        elif ch == ")":
+            depth -= 1
+        elif depth == 0 and (ch == ":" or (ch == "." and (i + 1 == len(joined) or joined[i + 1] == " "))):
+            return joined[:i]
+    return joined[:160]
 
 
 def figures_of(text):
