@@ -42,12 +42,7 @@ def main():
     ap.add_argument("-o", "--output", default="", help="figure file (default DIR/PREFIX_fault_map.png)")
     a = ap.parse_args()
     run = Run(os.path.dirname(a.run) or ".", os.path.basename(a.run))
-    import h5py
-    with h5py.File(os.path.join(run.dir, run.prefix + "_mesh.h5"), "r") as f:
-        if "fractures" not in f:
-            raise ValueError(f"{a.run}: the run has no fractures grid (not a contact run?)")
-        xyz = np.array(f["fractures/coords"])
-        quads = np.array(f["fractures/connectivity"])
+    xyz, quads = run.fractures()
     names = fault_names(run)
     which = 1 if not a.fault else (names.index(a.fault) + 1 if a.fault in names else 0)
     if which == 0:

@@ -68,12 +68,10 @@ def main():
     ax = fig.add_subplot(projection="3d")
     ax.computed_zorder = False       # the fault's traces over the faces they lie on
     ax.add_collection3d(Poly3DCollection(polys, facecolors=colours, edgecolors="0.25", linewidths=0.25, zorder=1))
-    import h5py
-    with h5py.File(os.path.join(run.dir, run.prefix + "_mesh.h5"), "r") as f:
-        faults = "fractures" in f
-        if faults:
-            fxyz = np.array(f["fractures/coords"])
-            fquads = np.array(f["fractures/connectivity"])
+    grid = run.fractures(required=False)
+    faults = grid is not None
+    if faults:
+        fxyz, fquads = grid
     if faults:
         segs = []
         for q in fquads:

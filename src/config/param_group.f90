@@ -22,7 +22,7 @@ module param_group
   implicit none
   private
 
-  public :: push_line, param_group_t, param_line_len
+  public :: push_line, param_group_t, param_line_len, base_name
 
   !> length of the lines returned by lines() (the deck reader takes 256)
   integer, parameter :: param_line_len = 256

@@ -24,7 +24,7 @@ module deck_catalogue
   use run_config, only: run_config_t
   use mesh_config, only: mesh_config_t
   use probe_config, only: probe_config_t
-  use param_group, only: param_group_t
+  use param_group, only: param_group_t, base_name, push_line, param_line_len
   use simulation, only: simulation_t
   use simulation_factory, only: make_simulation, physics_names
   use time_loop, only: read_physics_groups
@@ -35,12 +35,11 @@ module deck_catalogue
 
   public :: build_reference
 
-  integer, parameter :: line_len = 240
 
   !> One example group: its deck line, and what it adds to the &material
   !> line (a variable it needs there).
   type :: example_t
-    character(len=line_len) :: text = ''
+    character(len=240) :: text = ''
     character(len=40) :: material = ''
   end type example_t
 
@@ -166,7 +165,7 @@ contains
   function deck_lines(name, variant, ex) result(lines)
     character(len=*), intent(in) :: name, variant
     type(example_t), intent(in) :: ex(:)
-    character(len=line_len), allocatable :: lines(:)
+    character(len=param_line_len), allocatable :: lines(:)
     character(len=:), allocatable :: material
     logical :: flow, faults, transient
     integer :: k
@@ -174,36 +173,36 @@ contains
     faults = name == 'contact' .or. flow
     transient = name == 'biot' .or. flow
     allocate(lines(0))
-    call push(lines, '! an example deck of the deck reference (deck_catalogue.f90)')
+    call push_line(lines, '! an example deck of the deck reference (deck_catalogue.f90)')
     ! elasticity leaves &run physics out: its default
-    if (name /= 'elasticity') call push(lines, "&run physics = '"//name//"' /")
+    if (name /= 'elasticity') call push_line(lines, "&run physics = '"//name//"' /")
     select case (variant)
     case ('core')
-      call push(lines, '&mesh nx = 4, ny = 4, nz = 4, core_n = 2, 0, 0, '// &
+      call push_line(lines, '&mesh nx = 4, ny = 4, nz = 4, core_n = 2, 0, 0, '// &
                'core_lower = 0.25, 0.0, 0.0, core_upper = 0.75, 0.0, 0.0 /')
     case ('gmsh')
-      call push(lines, "&mesh source = 'gmsh', file = 'example.msh' /")
+      call push_line(lines, "&mesh source = 'gmsh', file = 'example.msh' /")
     case default
-      call push(lines, '&mesh nx = 4, ny = 4, nz = 4 /')
+      call push_line(lines, '&mesh nx = 4, ny = 4, nz = 4 /')
     end select
     material = "&material region = 'domain', young = 1.0e9, poisson = 0.25"
     if (name == 'biot') material = material//', permeability = 1.0e-12'
     do k = 1, size(ex)
       if (len_trim(ex(k)%material) > 0) material = material//', '//trim(ex(k)%material)
     end do
-    call push(lines, material//' /')
+    call push_line(lines, material//' /')
     if (variant == 'times') then
-      call push(lines, '&time times = 1.0, 2.0 /')
+      call push_line(lines, '&time times = 1.0, 2.0 /')
     else if (transient) then
-      call push(lines, '&time dt = 1.0, t_end = 1.0 /')
+      call push_line(lines, '&time dt = 1.0, t_end = 1.0 /')
     end if
     if (faults .and. variant == 'gmsh') then
-      call push(lines, "&fault name = 'f' /")
+      call push_line(lines, "&fault name = 'f' /")
     else if (faults) then
-      call push(lines, "&fault name = 'f', normal_axis = 'z', position = 0.5 /")
+      call push_line(lines, "&fault name = 'f', normal_axis = 'z', position = 0.5 /")
     end if
     do k = 1, size(ex)
-      call push(lines, ex(k)%text)
+      call push_line(lines, ex(k)%text)
     end do
   end function deck_lines
 
@@ -271,27 +270,6 @@ contains
       flag(i) = d%assigned(trim(g%name), k, base_name(g%p(i)%name))
     end do
   end subroutine group_flags
-
-  !> Append text to lines (no array constructor: gfortran 12's checked
-  !> build mistakes the length of a character expression in one).
-  subroutine push(lines, text)
-    character(len=line_len), allocatable, intent(inout) :: lines(:)
-    character(len=*), intent(in) :: text
-    character(len=line_len), allocatable :: tmp(:)
-    integer :: n
-    n = size(lines)
-    allocate(tmp(n + 1))
-    tmp(1:n) = lines
-    tmp(n + 1) = text
-    call move_alloc(tmp, lines)
-  end subroutine push
-
-  pure function base_name(s) result(b)
-    character(len=*), intent(in) :: s
-    character(len=:), allocatable :: b
-    b = s
-    if (index(s, '(') > 1) b = s(1:index(s, '(') - 1)
-  end function base_name
 
   !> $TMPDIR (or /tmp)/geoblock_reference_<pid>.nml
   function temporary_path() result(path)

@@ -13,7 +13,7 @@
 !> it. Groups and variables keep the order the readings give them.
 module deck_reference
   use kinds, only: name_len
-  use param_group, only: param_group_t
+  use param_group, only: param_group_t, base_name
   use strings, only: itoa
   implicit none
   private
@@ -543,13 +543,6 @@ contains
       end if
     end do
   end function md_code
-
-  pure function base_name(s) result(b)
-    character(len=*), intent(in) :: s
-    character(len=:), allocatable :: b
-    b = s
-    if (index(s, '(') > 1) b = s(1:index(s, '(') - 1)
-  end function base_name
 
   function capital(s) result(t)
     character(len=*), intent(in) :: s
