@@ -52,7 +52,7 @@ EXE := bin/geoblock$(EXE_SUFFIX)
 
 vpath %.f90 $(sort $(dir $(ALL_SRC)))
 
-.PHONY: all debug tests run test bench bench-large deps clean help
+.PHONY: all debug tests run test bench bench-large deps clean help reference images
 .DEFAULT_GOAL := all
 
 all: $(EXE)
@@ -128,8 +128,19 @@ bench-large: deps
 	$(MAKE) all
 	@bash bench/run_all.sh large
 
+# The deck reference, written by the binary from the parameter registry
+# (doc/reference/decks.md; make test fails when the committed one differs).
+reference: all
+	@mkdir -p doc/reference
+	OMPI_MCA_rmaps_base_oversubscribe=1 $(EXE) --reference > doc/reference/decks.md
+	@echo "wrote doc/reference/decks.md"
+
+# The manual's pictures (doc/images/), from small runs of the tutorials' decks.
+images: all
+	@bash postproc/make_images.sh
+
 clean:
 	rm -rf build bin
 
 help:
-	@echo "make [all|debug|run|test|bench|bench-large|clean]  (BUILD=opt|debug, NP=ranks, DECK=deck)"
+	@echo "make [all|debug|run|test|bench|bench-large|reference|images|clean]  (BUILD=opt|debug, NP=ranks, DECK=deck)"

@@ -7,7 +7,7 @@
 #   implicit      : implicit factors, ldu_cheap, fixed stress + scaled Laplacian, AMG
 #   explicit_amg  : block aFSAI factors F, explicit Schur P + F1'K F1 + g F2'A F2, AMG on K and S
 #   explicit_afsai: the same with our aFSAI on K, A and S (the seed's all-aFSAI method)
-#   mumps         : MUMPS over all ranks (the layout of the README's MUMPS columns)
+#   mumps         : MUMPS over all ranks (the layout of the benchmark reports' MUMPS columns)
 biot_solver() {
   local fgmres="method = 'fgmres', precon = 'block', rtol = 1.0e-8, elastic_reference = .true."
   case $1 in

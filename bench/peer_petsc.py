@@ -20,8 +20,9 @@ most 6 entries, one aggressive level, strong threshold 0.5, l1-Gauss-Seidel;
 three functions for the displacement, whose rows come in whole nodes),
 except the flux q and the traction t blocks (a mass matrix, a stabilization),
 by Jacobi. Right-preconditioned FGMRES(restart) to the relative true residual
-rtol from x = 0, as ours. These are the best settings found (README,
-"Peers"); PETSC_OPTIONS in the environment overrides any of them (e.g.
+rtol from x = 0, as ours. These are the best settings found
+(doc/benchmarks-history.md, "Peers on the same systems"); PETSC_OPTIONS in
+the environment overrides any of them (e.g.
 PETSC_OPTIONS='-pc_fieldsplit_schur_fact_type upper').
 
 Prints one line: iterations, set-up, solve and total seconds, the true

@@ -2,8 +2,8 @@
 # make bench / make bench-large: benchmark scripts in turn, each timed, then
 # one report: the machine, the date, the commit, each script's wall time and
 # every table it wrote (the files its last "table:" or "tables:" line names),
-# in the order they ran. The README's benchmark tables are copied from one
-# such report.
+# in the order they ran. doc/benchmarks.md is the REPORT.md of the last
+# make bench run, copied over (doc/development.md).
 #   standard (make bench, build/bench/REPORT.md, about 1.5-2 hours here):
 #     elasticity, Mandel and the seed's explicit/implicit table, the peers
 #     on the same systems, strong scaling, contact on 5 levels with the

@@ -16,7 +16,7 @@
 # mesh, same tolerance; it uses the same &amg) and MUMPS on the same problem.
 # The augmented runs get max_cuts = 0: from rest under a proportional load a
 # cut step repeats the same linear systems, so cuts cannot rescue a linear
-# solver that fails (it does at n = 40, see the README).
+# solver that fails (it does at n = 40, see doc/benchmarks.md).
 # bubble_augmented is the stable face-bubble space (&contact space =
 # 'bubble': Q1 + a face bubble per interface face and side, P0 tractions, a
 # pure saddle point) with the augmented preconditioner, its default;

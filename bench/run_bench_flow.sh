@@ -10,7 +10,7 @@
 # the peak resident memory from the timing summary. Levels: cells per side
 # (17 = the reduced case, 4 m cells; 34; 68 = the seed's size, 1 m cells,
 # with nz = 69). Each run is cut at `limit` seconds (the seed's size with
-# FGMRES does not finish in a bench's time: see README).
+# FGMRES does not finish in a bench's time: see doc/benchmarks-history.md).
 # Usage: bench/run_bench_flow.sh [levels] [ranks] [limit seconds] [t_end] [solvers]
 # (solvers: any of mumps schur schur300 eliminated contact; all by default)
 set -u
@@ -72,7 +72,7 @@ row() {  # level solver label log
 for n in $levels; do
   for s in $solvers; do
     [ "$s" = contact ] && continue
-    # MUMPS at the seed's size needs more than this machine's 24 GB (README,
+    # MUMPS at the seed's size needs more than this machine's 24 GB (doc/benchmarks.md,
     # the elastic MUMPS table: about 26 GB at 824k unknowns on 2 ranks)
     if [ "$s" = mumps ] && [ "$n" -ge 68 ]; then
       echo "| $n | | fracture flow, mumps | not run: more memory than 24 GB | | | |" >> "$table"

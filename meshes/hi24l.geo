@@ -5,7 +5,7 @@
 // layers, faults and sizes below are ours, chosen to match its size (n_u,
 // n_t) and its character (one main set of growth faults striking NE-SW,
 // antithetic faults, cross faults and splays; faults that cut the column and
-// faults that end inside it; intersections). README, Meshes, "The High
+// faults that end inside it; intersections). doc/meshes.md, "The High
 // Island 24L stand-in" has the tables.
 //
 // How the mesh is made: the map (the plane z = 0) with the fault traces cut

@@ -58,6 +58,19 @@ class Run:
     def cell_centres(self):
         return self.coords[self.conn].mean(axis=1)
 
+    def fractures(self, required=True):
+        """(coords, quads) of a contact run's fractures grid (one quad per
+        interface element, 4 nodes of its own); None without one, or an
+        error when required."""
+        mesh = os.path.join(self.dir, self.prefix + "_mesh.h5")
+        with h5py.File(mesh, "r") as f:
+            if "fractures" not in f:
+                if required:
+                    raise ValueError(f"{os.path.join(self.dir, self.prefix)}: the run has no fractures grid "
+                                     "(not a contact run?)")
+                return None
+            return np.array(f["fractures/coords"]), np.array(f["fractures/connectivity"])
+
     def parameters(self):
         """The run's resolved deck, D/P_parameters.nml (read_parameters)."""
         return read_parameters(os.path.join(self.dir, self.prefix + "_parameters.nml"))

@@ -61,12 +61,7 @@ def main():
     ap.add_argument("-o", "--output", default="")
     a = ap.parse_args()
     run = Run(os.path.dirname(a.run) or ".", os.path.basename(a.run))
-    import h5py
-    with h5py.File(os.path.join(run.dir, run.prefix + "_mesh.h5"), "r") as f:
-        if "fractures" not in f:
-            raise ValueError(f"{a.run}: the run has no fractures grid (not a contact run?)")
-        xyz = np.array(f["fractures/coords"])
-        quads = np.array(f["fractures/connectivity"])
+    xyz, quads = run.fractures()
     status = run.field("fractures/status", a.step).astype(int)
     fault = run.field("fractures/fault", a.step).astype(int)
     slip = run.field("fractures/slip_magnitude", a.step)

@@ -3,6 +3,10 @@
 # A line is "<ranks> <program> [args]" for a test program in bin/tests, or
 # "script <path>" for a shell (.sh) or Python (.py) suite. Each suite prints "suite NAME: N passed, N failed";
 # a suite that crashes or hangs (timeout) counts as one failure.
+# Then the verification report, build/reports/verification.md
+# (tools/verification_report.py), from the suites' logs, build/reports/suites.tsv
+# (one row per suite: section, name, passed, failed, seconds, command) and
+# the figures the verification suites record (build/reports/verification.tsv).
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -11,14 +15,19 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_
 # case 2 s of wall time
 export OMPI_MCA_odls_base_sigkill_timeout=0
 logdir=build/test-logs
-mkdir -p "$logdir"
+mkdir -p "$logdir" build/reports
+rm -f build/reports/suites.tsv build/reports/verification.tsv
 total_pass=0
 total_fail=0
 start=$(date +%s)
+section=""
 while read -r np prog args; do
   [ -z "${np:-}" ] && continue
-  case "$np" in \#*) continue ;; esac
+  case "$np" in \#*) section="$prog${args:+ $args}"; continue ;; esac
   t0=$(date +%s)
+  if [ "$np" = "script" ]; then VREPORT_SUITE=$(basename "$prog"); VREPORT_SUITE=${VREPORT_SUITE%.*}
+  else VREPORT_SUITE="$prog-np$np"; fi
+  export VREPORT_SUITE
   if [ "$np" = "script" ]; then
     name=$(basename "$prog"); name=${name%.*}
     log="$logdir/$name.log"
@@ -44,9 +53,13 @@ while read -r np prog args; do
   fi
   grep -E '^  FAIL' "$log" | sed "s/^/[$name]/"
   printf '%-40s %-28s %5d s\n' "$name" "${line#suite *: }" "$(( $(date +%s) - t0 ))"
+  printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$section" "$name" "$p" "$f" "$(( $(date +%s) - t0 ))" \
+    "$np $prog${args:+ $args}" >> build/reports/suites.tsv
   total_pass=$((total_pass + p))
   total_fail=$((total_fail + f))
 done < tests/suites.txt
 echo "test time: $(( $(date +%s) - start )) s"
+"${PYTHON:-/usr/bin/python3}" tools/verification_report.py --command "make test" || \
+  echo "warning: the verification report could not be written"
 echo "$total_pass passed, $total_fail failed"
 [ "$total_fail" -eq 0 ]

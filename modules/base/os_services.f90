@@ -17,7 +17,7 @@ module os_services
 
   public :: make_directory, rename_path, path_kind, path_missing, path_file, path_directory, end_process, &
             catch_stop_signals, stop_requested, signal_name, file_size, &
-            absolute_path
+            absolute_path, process_id
 
   !> what a path names (path_kind)
   integer, parameter :: path_missing = 0, path_file = 1, path_directory = 2
@@ -81,6 +81,10 @@ module os_services
       import :: c_int, c_ptr
       type(c_ptr), value :: dir
     end function c_closedir
+    !> pid_t getpid(void)
+    integer(c_int) function c_getpid() bind(C, name='getpid')
+      import :: c_int
+    end function c_getpid
   end interface
 
 contains
@@ -138,6 +142,12 @@ contains
     if (c_rename(trim(old)//c_null_char, trim(new)//c_null_char) /= 0) &
       call status%set("cannot rename '"//trim(old)//"' to '"//trim(new)//"': "//errno_text(errno()))
   end subroutine rename_path
+
+  !> The process id (unique among the running processes: names of
+  !> temporary files).
+  integer function process_id()
+    process_id = int(c_getpid())
+  end function process_id
 
   !> path (trailing blanks ignored) as an absolute path: a relative one is
   !> put after the working directory ('' stays ''; a path that already

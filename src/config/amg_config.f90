@@ -78,34 +78,44 @@ contains
     end if
   end subroutine read_amg_config
 
-  !> The resolved &amg group of params.
+  !> The resolved &amg group of params (meanings, hypre ids and the reasons
+  !> for the defaults: amg_params.f90).
   subroutine describe_amg_config(params, g)
     type(amg_params_t), intent(in) :: params
     type(param_group_t), intent(out) :: g
-    call g%init('amg')
-    call g%add('num_functions', params%num_functions, '-', 'unknowns per node (systems AMG)')
-    call g%add('nodal', params%nodal, '-', '0 unknown approach; 1-4, 6 nodal norms')
-    call g%add('coarsen_type', params%coarsen_type, '-', 'coarsening')
-    call g%add('interp_type', params%interp_type, '-', 'interpolation')
-    call g%add('p_max_elmts', params%p_max_elmts, '-', 'interpolation entries per row (0: all)')
-    call g%add('trunc_factor', params%trunc_factor, '-', 'interpolation truncation factor')
-    call g%add('agg_num_levels', params%agg_num_levels, '-', 'levels of aggressive coarsening')
-    call g%add('agg_interp_type', params%agg_interp_type, '-', 'interpolation of the aggressive levels')
-    call g%add('agg_p_max_elmts', params%agg_p_max_elmts, '-', 'entries per row, aggressive levels (0: all)')
-    call g%add('num_paths', params%num_paths, '-', 'paths of aggressive coarsening')
-    call g%add('strong_threshold', params%strong_threshold, '-', 'strength of connection')
-    call g%add('max_row_sum', params%max_row_sum, '-', 'weakens diagonally dominant rows (1: off)')
-    call g%add('max_levels', params%max_levels, '-', 'largest number of levels')
-    call g%add('max_coarse_size', params%max_coarse_size, '-', 'rows of the coarsest level')
-    call g%add('relax_type', params%relax_type, '-', 'smoother')
-    call g%add('num_sweeps', params%num_sweeps, '-', 'smoothing sweeps down and up')
-    call g%add('relax_wt', params%relax_wt, '-', 'weight of Jacobi / SOR smoothers')
-    call g%add('print_level', params%print_level, '-', "hypre's own output: 0 none .. 3")
-    call g%add('cycle_type', params%cycle_type, '-', "'v' or 'w'")
-    call g%add('interp_vec_variant', params%interp_vec_variant, '-', &
-               'rigid-body modes in the interpolation: 0 none, 1, 2 GM, 3 LN')
-    call g%add('interp_vec_qmax', params%interp_vec_qmax, '-', 'entries per row of the added columns (0: all)')
-    call g%add('slab_threshold', params%slab_threshold, '-', &
-               'strength threshold, at least, of the displacement block on a slab with flat cells (0: off)')
+    call g%init('amg', 'the BoomerAMG settings of every AMG in the run (defaults for 3D Q1 elasticity; Schur '// &
+                'complements and pressure Laplacians take a scalar copy)')
+    call g%add('num_functions', params%num_functions, '-', 'unknowns per node (systems AMG)', '1..64')
+    call g%add('nodal', params%nodal, '-', '0 unknown approach; 1-4, 6 nodal norms', &
+               '0, 1, 2, 3, 4 or 6; 0 when num_functions = 1')
+    call g%add('coarsen_type', params%coarsen_type, '-', 'coarsening', &
+               "'cljp', 'ruge-stueben', 'falgout', 'pmis' or 'hmis'")
+    call g%add('interp_type', params%interp_type, '-', 'interpolation', "'classical', 'direct', 'multipass', "// &
+               "'ext+i', 'standard', 'ff1', 'ext', 'ext-mm', 'ext+i-mm' or 'ext+e-mm'")
+    call g%add('p_max_elmts', params%p_max_elmts, '-', 'interpolation entries per row (0: all)', '0..100')
+    call g%add('trunc_factor', params%trunc_factor, '-', 'interpolation truncation factor', '[0, 1)')
+    call g%add('agg_num_levels', params%agg_num_levels, '-', 'levels of aggressive coarsening', &
+               '0..max_levels - 1')
+    call g%add('agg_interp_type', params%agg_interp_type, '-', 'interpolation of the aggressive levels', &
+               "'2s-ext+i', '2s-standard', '2s-ext', 'multipass', '2s-ext-mm', '2s-ext+i-mm' or '2s-ext+e-mm'")
+    call g%add('agg_p_max_elmts', params%agg_p_max_elmts, '-', 'entries per row, aggressive levels (0: all)', &
+               '0..100')
+    call g%add('num_paths', params%num_paths, '-', 'paths of aggressive coarsening', '1..10')
+    call g%add('strong_threshold', params%strong_threshold, '-', 'strength of connection', '(0, 1)')
+    call g%add('max_row_sum', params%max_row_sum, '-', 'weakens diagonally dominant rows (1: off)', '(0, 1]')
+    call g%add('max_levels', params%max_levels, '-', 'largest number of levels', '1..100')
+    call g%add('max_coarse_size', params%max_coarse_size, '-', 'rows of the coarsest level', '>= 1')
+    call g%add('relax_type', params%relax_type, '-', 'smoother (every one symmetric: fit for CG)', &
+               "'jacobi', 'hybrid-gs', 'hybrid-sgs', 'l1-sgs', 'l1-gs', 'chebyshev' or 'l1-jacobi'")
+    call g%add('num_sweeps', params%num_sweeps, '-', 'smoothing sweeps down and up', '1..20')
+    call g%add('relax_wt', params%relax_wt, '-', 'weight of Jacobi / SOR smoothers', '(0, 2)')
+    call g%add('print_level', params%print_level, '-', "hypre's own output: 0 none .. 3", '0..3')
+    call g%add('cycle_type', params%cycle_type, '-', 'V- or W-cycle', "'v' or 'w'")
+    call g%add('interp_vec_variant', params%interp_vec_variant, '-', 'rigid-body modes in the interpolation of '// &
+               'K (and S*): 0 none, 1, 2 GM, 3 LN', '0..3; 0 when nodal = 0')
+    call g%add('interp_vec_qmax', params%interp_vec_qmax, '-', 'entries per row of the added columns (0: all)', &
+               '0..100')
+    call g%add('slab_threshold', params%slab_threshold, '-', 'strength threshold, at least, of the displacement '// &
+               'block (K, S*) on a slab with flat cells (found from the mesh; 0: as strong_threshold)', '[0, 1)')
   end subroutine describe_amg_config
 end module amg_config

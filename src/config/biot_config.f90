@@ -70,14 +70,15 @@ contains
     beta = merge(self%stab_factor, 0.0_rp, self%stabilization)
   end function beta
 
-  !> The resolved &biot group.
   subroutine describe_biot_config(self, g)
     class(biot_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('biot')
-    call g%add('stabilization', self%stabilization, '-', 'pressure-jump stabilization of the undrained limit')
-    call g%add('stab_factor', self%stab_factor, '-', 'its factor beta')
-    call g%add('stab_mode', self%stab_mode, '-', "'adaptive' (scaled by the closeness to the undrained "// &
-               "incompressible limit) or 'full'")
+    call g%init('biot', 'discretization options of three-field poromechanics: the pressure-jump stabilization')
+    call g%add('stabilization', self%stabilization, '-', 'pressure-jump stabilization of the undrained, '// &
+               'incompressible limit')
+    call g%add('stab_factor', self%stab_factor, '-', 'its factor beta', '> 0')
+    call g%add('stab_mode', self%stab_mode, '-', "its size: 'adaptive' (the full weight times r^2, r the "// &
+               "closeness of the step to the undrained incompressible limit) or 'full' (that limit's weight at "// &
+               "every step)", "'adaptive' or 'full'")
   end subroutine describe_biot_config
 end module biot_config

@@ -147,36 +147,42 @@ contains
     end do
   end subroutine read_boundaries
 
-  !> The resolved &boundary group: the variables of its type only.
+  !> The resolved &boundary group: the variables of its type.
   subroutine describe_boundary(self, g)
     class(boundary_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
     character(len=2), parameter :: comp(3) = ['ux', 'uy', 'uz']
     integer :: i
-    call g%init('boundary')
-    call g%add('set', self%set, '-', 'surface set')
-    call g%add('type', self%type, '-', type_names)
+    call g%init('boundary', 'a condition on a surface set or a part of it (faces with no flow condition are '// &
+                'impermeable)')
+    call g%add('set', self%set, '-', "surface set: 'xmin' ... 'zmax' of a box, a Gmsh physical surface")
+    call g%add('type', self%type, '-', "the condition ('pressure', 'flux': biot only)", type_names)
     select case (self%type)
     case ('displacement')
       do i = 1, 3
         if (self%fixed(i)) then
-          call g%add(comp(i), self%value(i), 'm', 'prescribed displacement component')
+          call g%add(comp(i), self%value(i), 'm', "type = 'displacement': a prescribed component (at least one)")
         else
-          call g%add_unset(comp(i), '(free)', 'm', 'prescribed displacement component')
+          call g%add_unset(comp(i), '(free)', 'm', "type = 'displacement': a prescribed component (at least one)", &
+                           'real')
         end if
       end do
     case ('traction')
-      call g%add('traction', self%value, 'Pa', 'prescribed traction vector')
+      call g%add('traction', self%value, 'Pa', "type = 'traction': the traction vector (biot: a total traction)")
     case ('normal_traction')
-      call g%add('normal_traction', self%value(1), 'Pa', 'traction along the outward normal (negative: compression)')
+      call g%add('normal_traction', self%value(1), 'Pa', "type = 'normal_traction': traction along the "// &
+                 'outward normal, taken at each quadrature point (follows a curved surface); negative: compression')
     case ('pressure')
-      call g%add('pressure', self%value(1), 'Pa', 'prescribed fluid pressure')
+      call g%add('pressure', self%value(1), 'Pa', "type = 'pressure': the fluid pressure of a drained face")
     case ('flux')
-      call g%add('flux', self%value(1), 'm/s', 'prescribed outward normal Darcy flux')
+      call g%add('flux', self%value(1), 'm/s', "type = 'flux': the outward normal Darcy flux")
     end select
-    call g%add_bounds('lower', self%lower, '(open)', 'm', 'lower corner of the box of the face centres it acts on')
-    call g%add_bounds('upper', self%upper, '(open)', 'm', 'upper corner of the box of the face centres it acts on')
-    call g%add('history', absolute_path(self%history), '-', "file of 'time factor' rows scaling the value ('': none)")
+    call g%add_bounds('lower', self%lower, '(open)', 'm', 'acts only on the faces of the set whose centres lie '// &
+                      'in [lower, upper] (a component left out is open)')
+    call g%add_bounds('upper', self%upper, '(open)', 'm', 'upper corner of that box', '> lower; the box must '// &
+                      'select a face of the set')
+    call g%add('history', absolute_path(self%history), '-', "file of 'time factor' rows scaling the value "// &
+               "(relative to the deck's directory; elasticity and contact: time is the load factor; '': none)")
   end subroutine describe_boundary
 
   !> Whether the condition acts on part of its set only (lower or upper given).

@@ -142,22 +142,34 @@ contains
     self%status_tol = status_tol; self%max_cuts = max_cuts; self%reuse = reuse; self%schur_its = schur_its
   end subroutine read_contact_config
 
-  !> The resolved &contact group.
   subroutine describe_contact_config(self, g)
     class(contact_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('contact')
-    call g%add('space', self%space, '-', "'stabilized' (Q1-P0 with H_t) or 'bubble' (Q1 + face bubbles, P0)")
-    call g%add('stabilization', self%stabilization, '-', "'algebraic' (jump stabilization) or 'none'")
-    call g%add('block', self%block, '-', "(u, t) preconditioner: 'reordered', 'classical' or 'augmented'")
-    call g%add('schur_precon', self%schur_precon, '-', "classical: 'boomeramg' or 'jacobi' for -S")
-    call g%add('aug_scale', self%aug_scale, '-', 'scale of the regular diagonal H~ (and D)')
-    call g%add('schur_solve', self%schur_solve, '-', "how S* is applied: 'vcycle', 'pcg' or 'inner_cg'")
-    call g%add('schur_its', self%schur_its, '-', "schur_solve = 'pcg': CG steps per application")
-    call g%add('max_newton', self%max_newton, '-', 'Newton / active-set iterations per load step')
-    call g%add('newton_tol', self%newton_tol, '-', 'relative residual per field (force, traction, fluid volume)')
-    call g%add('status_tol', self%status_tol, '-', 'relative tolerance of the status checks')
-    call g%add('max_cuts', self%max_cuts, '-', 'halvings of a load step that does not converge')
-    call g%add('reuse', self%reuse, '-', "FGMRES: keep the Schur part while no status changes")
+    call g%init('contact', 'the discretization of the contact conditions, their block preconditioner and the '// &
+                'Newton / active-set loop')
+    call g%add('space', self%space, '-', "'stabilized': Q1 displacements, P0 tractions with the stabilization "// &
+               "H_t; 'bubble': Q1 enriched with face bubbles, inf-sup stable (contact only)", &
+               "'stabilized' or 'bubble'")
+    call g%add('stabilization', self%stabilization, '-', "the traction jump stabilization H_t ('none' with "// &
+               "space = 'bubble', where 'algebraic' is refused)", "'algebraic' or 'none'")
+    call g%add('block', self%block, '-', "FGMRES preconditioner of the (t, u) system ('augmented' with space "// &
+               "= 'bubble'; fracture_flow: 'reordered')", "'reordered', 'classical' or 'augmented'")
+    call g%add('schur_precon', self%schur_precon, '-', "block = 'classical': preconditioner of -S", &
+               "'boomeramg' or 'jacobi'")
+    call g%add('aug_scale', self%aug_scale, '-', 'scale of the regular diagonal H~ of the reordered '// &
+               'preconditioner and of D of the augmented one', '> 0')
+    call g%add('schur_solve', self%schur_solve, '-', "how S* (S** with the fluid) is applied: one BoomerAMG "// &
+               "cycle, schur_its CG steps with BoomerAMG, or CG to 1e-10 (a slow diagnostic)", &
+               "'vcycle', 'pcg' or 'inner_cg' (not with block = 'classical')")
+    call g%add('schur_its', self%schur_its, '-', "schur_solve = 'pcg': CG steps per application of S*^-1", '1..50')
+    call g%add('max_newton', self%max_newton, '-', 'Newton / active-set iterations per step before it is cut', &
+               '>= 1')
+    call g%add('newton_tol', self%newton_tol, '-', 'relative residual per field of the Newton loop (force, '// &
+               'traction, fluid volume of the step, each against the magnitude it balances)', '(0, 1)')
+    call g%add('status_tol', self%status_tol, '-', 'relative tolerance of the stick / slip / open checks', '(0, 1)')
+    call g%add('max_cuts', self%max_cuts, '-', 'halvings of a step whose Newton loop does not converge, before '// &
+               'the run stops', '>= 0')
+    call g%add('reuse', self%reuse, '-', "FGMRES: keep the preconditioner's Schur part (S* and its AMG, S_p) "// &
+               'while every element sticks, as when it was built')
   end subroutine describe_contact_config
 end module contact_config

@@ -220,37 +220,50 @@ contains
   end subroutine read_faults
 
   !> The resolved &fault group: the geometry only for a box mesh, a
-  !> bound of the extent only where the deck gave one.
+  !> circular fault's radius and centre only when it has them.
   subroutine describe_fault(self, g)
     class(fault_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
     character(len=10) :: v
     integer :: i
-    call g%init('fault')
-    call g%add('name', self%name, '-', 'name of the fault')
+    call g%init('fault', 'a fault or fracture: where it lies (box meshes) and its friction (one group per fault)')
+    call g%add('name', self%name, '-', 'name of the fault; with a Gmsh mesh the internal physical surface that '// &
+               'is the fault', 'unique')
     if (self%box_geometry) then
-      call g%add('normal_axis', self%normal_axis, '-', 'axis the undipped fault is normal to')
-      call g%add('position', self%position, 'm', 'coordinate along normal_axis at mid-box along dip_axis')
-      call g%add('dip', self%dip, 'degrees', 'inclination along dip_axis')
-      call g%add('dip_axis', self%dip_axis, '-', 'axis along which the fault rises')
-      call g%add_bounds('lower', self%lower, '(none: the box edge)', 'm', 'lower in-plane bound of the fault')
-      call g%add_bounds('upper', self%upper, '(none: the box edge)', 'm', 'upper in-plane bound of the fault')
+      call g%add('normal_axis', self%normal_axis, '-', 'box: axis the undipped fault is normal to', &
+                 "'x', 'y' or 'z'")
+      call g%add('position', self%position, 'm', 'box: the fault is the node layer nearest to this coordinate '// &
+                 'along normal_axis (at mid-box along dip_axis)')
+      call g%add('dip', self%dip, 'degrees', 'box: inclination along dip_axis (the layer is sheared into the '// &
+                 'plane; cells crossing a fracture with tips are squared up)', '(-80, 80)')
+      call g%add('dip_axis', self%dip_axis, '-', 'box: axis along which the fault rises', &
+                 "'x', 'y' or 'z', not normal_axis")
+      call g%add_bounds('lower', self%lower, '(none: the box edge)', 'm', 'box: lower in-plane bound of the '// &
+                        'quads (the component along normal_axis is ignored); inside the box: a fracture with tips')
+      call g%add_bounds('upper', self%upper, '(none: the box edge)', 'm', 'box: upper in-plane bound of the '// &
+                        'quads', '> lower')
       if (self%radius > 0.0_rp) then
-        call g%add('radius', self%radius, 'm', 'radius of the circular fault')
+        call g%add('radius', self%radius, 'm', 'box, dip = 0: a circular fault, the quads whose centres lie '// &
+                   'within radius of centre in its plane', '> 0')
         do i = 1, 3
           write(v, '(a,i0,a)') 'centre(', i, ')'
-          call g%add(trim(v), self%centre(i), 'm', 'centre of the circular fault (in-plane components used)')
+          call g%add(trim(v), self%centre(i), 'm', 'centre of the circular fault (its in-plane components are '// &
+                     'required with radius)')
         end do
       else
-        call g%add_unset('radius', '(none: the rectangle lower..upper)', 'm', 'radius of the circular fault')
+        call g%add_unset('radius', '(none: the rectangle lower..upper)', 'm', 'box, dip = 0: a circular fault, '// &
+                         'the quads whose centres lie within radius of centre in its plane', 'real', '> 0')
       end if
     end if
-    call g%add('friction_angle', self%friction_angle, 'degrees', 'Coulomb friction angle')
-    call g%add('cohesion', self%cohesion, 'Pa', 'cohesion')
-    call g%add('pressure', self%pressure, 'Pa', 'fluid pressure on both faces')
-    call g%add('pressure_history', absolute_path(self%pressure_history), '-', &
-               "file of 'time factor' rows scaling pressure ('': none)")
-    call g%add('initial_state', self%initial_state, '-', "'stick' or 'open'")
+    call g%add('friction_angle', self%friction_angle, 'degrees', 'Coulomb friction angle phi: tau_max = c - '// &
+               'tan(phi) t_N', '[0, 90)')
+    call g%add('cohesion', self%cohesion, 'Pa', 'cohesion c', '>= 0')
+    call g%add('pressure', self%pressure, 'Pa', 'fluid pressure on both faces, grown with the load like the '// &
+               "other loads (not with 'fracture_flow', where it is an unknown)")
+    call g%add('pressure_history', absolute_path(self%pressure_history), '-', "file of 'time factor' rows "// &
+               "scaling pressure ('': none)")
+    call g%add('initial_state', self%initial_state, '-', 'status of every element at the start', &
+               "'stick' or 'open'")
   end subroutine describe_fault
 
   !> Axis index 1..3 of normal_axis.

@@ -175,11 +175,12 @@ contains
   subroutine describe_pressure_bc(self, g)
     class(pressure_bc_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('fracture_pressure')
-    call g%add('fault', self%fault, '-', 'the fault whose elements get the pressure')
-    call g%add_bounds('lower', self%lower, '(none)', 'm', 'lower bound of the element centres')
-    call g%add_bounds('upper', self%upper, '(none)', 'm', 'upper bound of the element centres')
-    call g%add('value', self%value, 'Pa', 'prescribed fluid pressure (times the history factor)')
+    call g%init('fracture_pressure', 'a prescribed fluid pressure on the elements of a fault whose centres lie '// &
+                'in a box')
+    call g%add('fault', self%fault, '-', 'the fault whose elements get the pressure', 'a &fault name')
+    call g%add_bounds('lower', self%lower, '(none)', 'm', 'lower corner of the box of element centres')
+    call g%add_bounds('upper', self%upper, '(none)', 'm', 'upper corner of the box of element centres', '>= lower')
+    call g%add('value', self%value, 'Pa', 'the prescribed fluid pressure (times the history factor)')
     call g%add('history', self%shape%history, '-', "file of 'time factor' rows scaling the value ('': none)")
   end subroutine describe_pressure_bc
 
@@ -232,16 +233,21 @@ contains
   subroutine describe_flow_config(self, g)
     class(flow_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('fracture_flow')
-    call g%add('viscosity', self%viscosity, 'Pa s', 'fluid viscosity')
-    call g%add('residual_aperture', self%residual_aperture, 'm', 'hydraulic aperture of a closed fracture')
+    call g%init('fracture_flow', 'the fluid in the fractures (cubic law) and the u-t-p block preconditioner')
+    call g%add('viscosity', self%viscosity, 'Pa s', 'fluid viscosity mu', '> 0')
+    call g%add('residual_aperture', self%residual_aperture, 'm', 'hydraulic aperture a0 of a closed fracture: '// &
+               'a = max(g_N, 0) + a0', '(0, 1)')
     call g%add('initial_pressure', self%initial_pressure, 'Pa', 'fluid pressure in the fractures at the start')
-    call g%add('compressibility', self%compressibility, '1/Pa', 'fluid compressibility')
-    call g%add('pressure_block', self%pressure_block, '-', "FGMRES: the pressure 'schur' (last) or 'eliminated' "// &
-               "(before u)")
-    call g%add('pressure_precon', self%pressure_precon, '-', "FGMRES, 'schur': 'boomeramg' or 'jacobi' for S_p")
-    call g%add('subspace_correction', self%subspace_correction, '-', "FGMRES: the fractures' subspace correction "// &
-               "(pressure with normal traction, AMG)")
+    call g%add('compressibility', self%compressibility, '1/Pa', 'fluid compressibility c_f (fixes the pressure '// &
+               'of a closed fracture: 0 is refused while a fault starts closed with no &fracture_pressure)', &
+               '[0, 1e-3)')
+    call g%add('pressure_block', self%pressure_block, '-', "FGMRES: the pressure eliminated with the tractions "// &
+               "before the displacement (one AMG per iteration), or its Schur complement last (the seed's)", &
+               "'eliminated' or 'schur'")
+    call g%add('pressure_precon', self%pressure_precon, '-', "pressure_block = 'schur': preconditioner of S_p", &
+               "'boomeramg' or 'jacobi'")
+    call g%add('subspace_correction', self%subspace_correction, '-', "FGMRES: the fractures' subspace "// &
+               'correction before the block preconditioner (per element its pressure with its normal traction, AMG)')
   end subroutine describe_flow_config
 
   !> Read and check every &well group (rank 0 reads the histories later,
@@ -339,24 +345,33 @@ contains
   subroutine describe_well(self, g)
     class(well_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('well')
-    call g%add('name', self%name, '-', 'name of the well')
+    call g%init('well', 'a source of fluid into the fractures, at a point or along a segment that crosses them')
+    call g%add('name', self%name, '-', 'name of the well (columns of <prefix>_probes.csv)', 'unique')
     if (self%along) then
-      call g%add_unset('point', '(none: along segment)', 'm', 'where the well meets the fracture')
-      call g%add('segment', self%segment, 'm', 'start x, y, z and end x, y, z of the well')
-      call g%add('radius', self%radius, 'm', 'well radius')
+      call g%add_unset('point', '(none: along segment)', 'm', 'a well at a point: the fracture element whose '// &
+                       'centre is nearest gets its fluid (give point or segment)', 'real(3)')
+      call g%add('segment', self%segment, 'm', 'a well along a segment, start x, y, z and end x, y, z: it feeds '// &
+                 "the element of every fault it crosses, the rate split by the connections' pressures", &
+                 'start /= end')
+      call g%add('radius', self%radius, 'm', "segment well: well radius r_w, below Peaceman's equivalent "// &
+                 'radius of every element it feeds', '> 0')
       if (self%index > 0.0_rp) then
-        call g%add('index', self%index, 'm3/(Pa s)', 'connection index J of every fracture it crosses')
+        call g%add('index', self%index, 'm3/(Pa s)', 'segment well: connection index J of every fracture it '// &
+                   'crosses', '> 0')
       else
-        call g%add_unset('index', "(Peaceman's, from the aperture)", 'm3/(Pa s)', 'connection index J')
+        call g%add_unset('index', "(Peaceman's, from the aperture)", 'm3/(Pa s)', 'segment well: connection '// &
+                         'index J of every fracture it crosses', 'real', '> 0')
       end if
     else
-      call g%add('point(1)', self%point(1), 'm', 'where the well meets the fracture, x')
-      call g%add('point(2)', self%point(2), 'm', 'where the well meets the fracture, y')
-      call g%add('point(3)', self%point(3), 'm', 'where the well meets the fracture, z')
-      call g%add_unset('segment', '(none: at point)', 'm', 'start and end of a well crossing fractures')
+      call g%add('point(1)', self%point(1), 'm', 'a well at a point: the fracture element whose centre is '// &
+                 'nearest gets its fluid (give point or segment)')
+      call g%add('point(2)', self%point(2), 'm', 'a well at a point, y')
+      call g%add('point(3)', self%point(3), 'm', 'a well at a point, z')
+      call g%add_unset('segment', '(none: at point)', 'm', 'a well along a segment, start x, y, z and end x, y, z: '// &
+                       "it feeds the element of every fault it crosses, the rate split by the connections' "// &
+                       'pressures', 'real(6)', 'start /= end')
     end if
-    call g%add('rate', self%rate, 'm3/s', 'injection rate (times the history factor)')
+    call g%add('rate', self%rate, 'm3/s', 'injection rate, times the history factor (negative: production)')
     call g%add('history', self%history, '-', "file of 'time factor' rows scaling the rate ('': none)")
   end subroutine describe_well
 end module flow_config

@@ -102,21 +102,27 @@ contains
     end subroutine check
   end subroutine read_fsai_config
 
-  !> The resolved &afsai and &block_fsai groups.
   subroutine describe_fsai_config(self, afsai, block_fsai)
     class(fsai_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: afsai, block_fsai
-    call afsai%init('afsai')
-    call afsai%add('max_steps', self%precon%max_steps, '-', 'adaptive steps per row')
-    call afsai%add('step_size', self%precon%step_size, '-', 'entries added per row and step')
-    call afsai%add('tol', self%precon%tol, '-', 'a row stops when a step improves it by less')
-    call afsai%add('init', self%precon%init, '-', "start pattern: 'lower' or 'diagonal'")
-    call afsai%add('drop', self%precon%drop, '-', "drop entries below drop * the row's largest")
-    call block_fsai%init('block_fsai')
-    call block_fsai%add('max_steps', self%factor%max_steps, '-', 'adaptive steps per column')
-    call block_fsai%add('step_size', self%factor%step_size, '-', 'entries added per column and step')
-    call block_fsai%add('tol', self%factor%tol, '-', 'relative residual of a column')
-    call block_fsai%add('drop', self%factor%drop, '-', "drop entries below drop * the column's largest")
-    call block_fsai%add('schur_drop', self%schur_drop, '-', 'drop |s_ij| < schur_drop sqrt(|s_ii s_jj|)')
+    call afsai%init('afsai', "our adaptive FSAI preconditioner (&solver precon, k_precon, flux_precon or "// &
+                    "schur_precon = 'afsai'; the steps, step size and tol also for 'hypre_fsai')")
+    call afsai%add('max_steps', self%precon%max_steps, '-', 'adaptive steps per row', '>= 0')
+    call afsai%add('step_size', self%precon%step_size, '-', 'entries added per row and step', '>= 1')
+    call afsai%add('tol', self%precon%tol, '-', 'a row stops when a step improves its Kaporin measure by less', &
+                   '>= 0')
+    call afsai%add('init', self%precon%init, '-', 'start pattern: the lower triangle of the matrix, or its '// &
+                   'diagonal', "'lower' or 'diagonal'")
+    call afsai%add('drop', self%precon%drop, '-', "drop entries below drop times the row's largest", '[0, 1)')
+    call block_fsai%init('block_fsai', "biot, &solver decoupling = 'explicit': the block aFSAI decoupling "// &
+                         'factors F ~ K^-1 Q, A^-1 B and the explicit Schur complement')
+    call block_fsai%add('max_steps', self%factor%max_steps, '-', 'adaptive steps per column of F', '>= 0')
+    call block_fsai%add('step_size', self%factor%step_size, '-', 'positions added per column and step (the '// &
+                        'largest residual components)', '>= 1')
+    call block_fsai%add('tol', self%factor%tol, '-', 'a column stops at this relative residual', '>= 0')
+    call block_fsai%add('drop', self%factor%drop, '-', "drop entries below drop times the column's largest", &
+                        '[0, 1)')
+    call block_fsai%add('schur_drop', self%schur_drop, '-', 'drop entries of the explicit Schur complement with '// &
+                        '|s_ij| < schur_drop sqrt(|s_ii s_jj|)', '>= 0')
   end subroutine describe_fsai_config
 end module fsai_config

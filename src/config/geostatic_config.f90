@@ -97,25 +97,29 @@ contains
     wet = self%water_table /= unset_real
   end function wet
 
-  !> The resolved &geostatic group.
   subroutine describe_geostatic_config(self, g)
     class(geostatic_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('geostatic')
-    call g%add('gravity', self%gravity, 'm/s^2', 'acceleration of gravity (along -z)')
+    call g%init('geostatic', 'start from the in-situ state of horizontally layered rock: gravity, a water '// &
+                'table, K0 (with &material density, k0, k0_max)')
+    call g%add('gravity', self%gravity, 'm/s^2', 'acceleration of gravity, along -z', '> 0')
     if (self%surface_stress /= unset_real) then
-      call g%add('surface_stress', self%surface_stress, 'Pa', 'vertical stress on the mesh top (compression)')
+      call g%add('surface_stress', self%surface_stress, 'Pa', 'vertical stress on the mesh top from what lies '// &
+                 'above it (an overburden not meshed, the sea), a magnitude', '>= 0')
     else
-      call g%add_unset('surface_stress', '(not set: the water above the top)', 'Pa', &
-                       'vertical stress on the mesh top (compression)')
+      call g%add_unset('surface_stress', '(not set: the water above the top)', 'Pa', 'vertical stress on the '// &
+                       'mesh top from what lies above it (an overburden not meshed, the sea), a magnitude', &
+                       'real', '>= 0')
     end if
     if (self%wet()) then
-      call g%add('water_table', self%water_table, 'm', 'z of the free water surface')
+      call g%add('water_table', self%water_table, 'm', 'z of the free water surface: hydrostatic pore pressure '// &
+                 'below it')
     else
-      call g%add_unset('water_table', '(not set: dry, no pore pressure)', 'm', 'z of the free water surface')
+      call g%add_unset('water_table', '(not set: dry, no pore pressure)', 'm', 'z of the free water surface: '// &
+                       'hydrostatic pore pressure below it', 'real')
     end if
-    call g%add('fluid_density', self%fluid_density, 'kg/m^3', 'density of the pore fluid')
-    call g%add('sh_max_azimuth', self%sh_max_azimuth, 'degrees', &
-               'azimuth of the largest horizontal stress, clockwise from north (+y); with &material k0_max')
+    call g%add('fluid_density', self%fluid_density, 'kg/m^3', 'density of the pore water', '> 0')
+    call g%add('sh_max_azimuth', self%sh_max_azimuth, 'degrees', 'azimuth of the largest horizontal stress, '// &
+               'clockwise from north (+y) towards east (+x); where a &material gives k0_max', '[0, 180)')
   end subroutine describe_geostatic_config
 end module geostatic_config

@@ -151,48 +151,61 @@ contains
     end do
   end subroutine read_materials
 
-  !> The resolved &material group (the physics drops what it does not use).
   subroutine describe_material(self, g)
     class(material_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('material')
-    call g%add('region', self%region, '-', 'mesh region')
-    call g%add('young', self%young, 'Pa', "drained Young's modulus")
-    call g%add('poisson', self%poisson, '-', "drained Poisson's ratio")
-    call g%add('body_force', self%body_force, 'N/m^3', 'body force per unit volume')
-    call g%add('biot', self%biot, '-', 'Biot coefficient')
+    call g%init('material', 'the rock of one region: an isotropic linear elastic solid, and for biot its '// &
+                'pores and fluid (one group per region)')
+    call g%add('region', self%region, '-', "mesh region: 'domain' for a box without &region, a &region name, "// &
+               'or a Gmsh physical volume', 'one group per region')
+    call g%add('young', self%young, 'Pa', "drained Young's modulus E", '> 0')
+    call g%add('poisson', self%poisson, '-', "drained Poisson's ratio nu", '(-1, 0.5)')
+    call g%add('body_force', self%body_force, 'N/m^3', 'body force per unit volume, e.g. 0, 0, -rho g (not with '// &
+               '&geostatic, whose gravity acts on density)')
+    call g%add('biot', self%biot, '-', 'Biot coefficient b (elasticity, contact: weighs a &pressure_change)', &
+               '[0, 1]')
     if (self%biot_modulus /= unset_real) then
-      call g%add('biot_modulus', self%biot_modulus, 'Pa', 'Biot modulus M')
+      call g%add('biot_modulus', self%biot_modulus, 'Pa', 'Biot modulus M', '> 0')
     else
-      call g%add_unset('biot_modulus', '(not set: 1/M = 0)', 'Pa', 'Biot modulus M (incompressible fluid and grains)')
+      call g%add_unset('biot_modulus', '(not set: 1/M = 0)', 'Pa', 'Biot modulus M (left out: incompressible '// &
+                       'fluid and grains)', 'real', '> 0')
     end if
     if (self%permeability /= unset_real) then
-      call g%add('permeability', self%permeability, 'm^2', 'isotropic permeability')
+      call g%add('permeability', self%permeability, 'm^2', 'isotropic permeability k (this or '// &
+                 'permeability_tensor is required)', '> 0')
     else
-      call g%add_unset('permeability', '(not set)', 'm^2', 'isotropic permeability')
+      call g%add_unset('permeability', '(not set)', 'm^2', 'isotropic permeability k (this or '// &
+                       'permeability_tensor is required)', 'real', '> 0')
     end if
     if (all(self%permeability_tensor /= unset_real)) then
-      call g%add('permeability_tensor', self%permeability_tensor, 'm^2', 'permeability xx, yy, zz, xy, yz, xz')
+      call g%add('permeability_tensor', self%permeability_tensor, 'm^2', 'full permeability tensor xx, yy, zz, '// &
+                 'xy, yz, xz (instead of permeability)', 'symmetric positive definite')
     else
-      call g%add_unset('permeability_tensor', '(not set)', 'm^2', 'permeability xx, yy, zz, xy, yz, xz')
+      call g%add_unset('permeability_tensor', '(not set)', 'm^2', 'full permeability tensor xx, yy, zz, xy, yz, '// &
+                       'xz (instead of permeability)', 'real(6)', 'symmetric positive definite')
     end if
-    call g%add('viscosity', self%viscosity, 'Pa s', 'fluid viscosity')
+    call g%add('viscosity', self%viscosity, 'Pa s', 'fluid viscosity mu', '> 0')
     if (self%density /= unset_real) then
-      call g%add('density', self%density, 'kg/m^3', 'rock density (&geostatic)')
+      call g%add('density', self%density, 'kg/m^3', 'rock density, saturated below a water table (with '// &
+                 '&geostatic, where it is required)', '>= 0')
     else
-      call g%add_unset('density', '(not set)', 'kg/m^3', 'rock density (&geostatic)')
+      call g%add_unset('density', '(not set)', 'kg/m^3', 'rock density, saturated below a water table (with '// &
+                       '&geostatic, where it is required)', 'real', '>= 0')
     end if
     if (self%k0 /= unset_real) then
-      call g%add('k0', self%k0, '-', 'in-situ horizontal / vertical effective stress (&geostatic)')
+      call g%add('k0', self%k0, '-', 'in-situ ratio of horizontal to vertical effective stress; with k0_max, of '// &
+                 'the least horizontal one (&geostatic)', '> 0')
     else
-      call g%add_unset('k0', '(not set: nu / (1 - nu))', '-', &
-                       'in-situ horizontal / vertical effective stress (&geostatic)')
+      call g%add_unset('k0', '(not set: nu / (1 - nu))', '-', 'in-situ ratio of horizontal to vertical '// &
+                       'effective stress; with k0_max, of the least horizontal one (&geostatic)', 'real', '> 0')
     end if
     if (self%k0_max /= unset_real) then
-      call g%add('k0_max', self%k0_max, '-', 'largest horizontal / vertical effective stress (&geostatic)')
+      call g%add('k0_max', self%k0_max, '-', 'in-situ ratio of the largest horizontal effective stress, along '// &
+                 '&geostatic sh_max_azimuth, to the vertical one (&geostatic)', '>= k0')
     else
-      call g%add_unset('k0_max', '(not set: k0 in every direction)', '-', &
-                       'largest horizontal / vertical effective stress (&geostatic)')
+      call g%add_unset('k0_max', '(not set: k0 in every direction)', '-', 'in-situ ratio of the largest '// &
+                       'horizontal effective stress, along &geostatic sh_max_azimuth, to the vertical one '// &
+                       '(&geostatic)', 'real', '>= k0')
     end if
   end subroutine describe_material
 

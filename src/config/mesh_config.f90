@@ -181,27 +181,36 @@ contains
   subroutine describe_mesh_config(self, g)
     class(mesh_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('mesh')
-    call g%add('source', self%source, '-', "'box' (generated) or 'gmsh' (MSH 4.1 file)")
+    call g%init('mesh', 'where the mesh comes from: a generated box or a Gmsh file (required)')
+    call g%add('source', self%source, '-', 'a generated box or a Gmsh MSH 4.1 ASCII file of hexahedra', &
+               "'box' or 'gmsh'")
     if (self%source == 'gmsh') then
-      call g%add('file', absolute_path(self%file), '-', 'the mesh file')
+      call g%add('file', absolute_path(self%file), '-', "source = 'gmsh': the mesh file (relative to the deck's "// &
+                 "directory)", 'MSH 4.1 ASCII, 8-node hexahedra')
       return
     end if
-    call g%add('nx', int(self%n(1)), '-', 'cells along x')
-    call g%add('ny', int(self%n(2)), '-', 'cells along y')
-    call g%add('nz', int(self%n(3)), '-', 'cells along z')
-    call g%add('lower', self%lower, 'm', 'lower corner of the box')
-    call g%add('upper', self%upper, 'm', 'upper corner of the box')
-    call g%add('grading', self%grading, '-', 'last/first cell size ratio per axis')
-    call g%add('core_n', int(self%core_n), '-', 'uniform cells of the core per axis (0: none)')
+    call g%add('nx', int(self%n(1)), '-', 'box: cells along x', '>= 1')
+    call g%add('ny', int(self%n(2)), '-', 'box: cells along y', '>= 1')
+    call g%add('nz', int(self%n(3)), '-', 'box: cells along z', '>= 1')
+    call g%add('lower', self%lower, 'm', 'box: lower corner', 'magnitude <= 1e30')
+    call g%add('upper', self%upper, 'm', 'box: upper corner', '> lower, magnitude <= 1e30')
+    call g%add('grading', self%grading, '-', 'box: last/first cell size ratio per axis', '> 0')
+    call g%add('core_n', int(self%core_n), '-', 'box: uniform cells of a core refinement per axis (0: none); '// &
+               'the other cells grow geometrically away from it, grading ignored there', &
+               '0..n; <= n - 2 when the core touches neither end, n - 1 when one, n when it spans the box')
     if (self%memory_limit > 0.0_rp) then
-      call g%add('memory_limit', self%memory_limit, 'GB', 'memory the run may use (sizes checked against it)')
+      call g%add('memory_limit', self%memory_limit, 'GB', 'box: memory the run may use; a larger estimate '// &
+                 '(12 kB a cell, biot 24 kB) is refused before anything is allocated', '>= 0')
     else
-      call g%add_unset('memory_limit', '(0: the machine)', 'GB', 'memory the run may use (0: MemTotal)')
+      call g%add_unset('memory_limit', '(0: the machine)', 'GB', 'box: memory the run may use; a larger '// &
+                       "estimate (12 kB a cell, biot 24 kB) is refused before anything is allocated (0: rank 0's "// &
+                       'MemTotal)', 'real', '>= 0')
     end if
     if (any(self%core_n > 0)) then
-      call g%add('core_lower', self%core_lower, 'm', 'lower corner of the core (axes with core_n > 0)')
-      call g%add('core_upper', self%core_upper, 'm', 'upper corner of the core (axes with core_n > 0)')
+      call g%add('core_lower', self%core_lower, 'm', 'box: lower end of the core on the axes with core_n > 0 '// &
+                 '(required there)', 'inside [lower, upper]')
+      call g%add('core_upper', self%core_upper, 'm', 'box: upper end of the core on the axes with core_n > 0 '// &
+                 '(required there)', '> core_lower, inside [lower, upper]')
     end if
   end subroutine describe_mesh_config
 

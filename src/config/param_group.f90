@@ -9,6 +9,12 @@
 !> whose absence means something, e.g. dt_max: no limit) is kept with what
 !> its absence means: the echo shows that meaning, the written deck a
 !> comment line (writing a number would set it).
+!>
+!> For the deck reference (geoblock --reference, doc/reference/decks.md)
+!> each variable also carries its kind (inferred from the add procedure:
+!> 'real', 'integer(3)', 'string', ...; add_unset names it) and the values
+!> it allows ('> 0', "'box' or 'gmsh'"), and a group a one-line account of
+!> itself (init's about). Neither is written into the echo or the deck.
 module param_group
   use kinds, only: rp, name_len, path_len
   use logger, only: logger_t
@@ -16,7 +22,7 @@ module param_group
   implicit none
   private
 
-  public :: push_line, param_group_t, param_line_len
+  public :: push_line, param_group_t, param_line_len, base_name
 
   !> length of the lines returned by lines() (the deck reader takes 256)
   integer, parameter :: param_line_len = 256
@@ -27,11 +33,16 @@ module param_group
 
   type :: param_t
     character(len=:), allocatable :: name, value, unit, meaning
+    character(len=:), allocatable :: kind      !< 'real', 'integer(3)', 'string', 'real list', ...
+    character(len=:), allocatable :: allowed   !< the values the reader accepts ('' unstated)
     logical :: set = .true.        !< false: value is the meaning of its absence
   end type param_t
 
   type :: param_group_t
     character(len=name_len) :: name = ''
+    !> one line on what the group is (fixed length: gfortran 12 copies a
+    !> deferred-length component of an array element shallowly)
+    character(len=256) :: about = ''
     type(param_t), allocatable :: p(:)
     integer :: n = 0
   contains
@@ -48,43 +59,56 @@ module param_group
 
 contains
 
-  !> An empty group called name (without '&').
-  subroutine init(self, name)
+  !> An empty group called name (without '&'); about: one line on what it
+  !> is, for the deck reference.
+  subroutine init(self, name, about)
     class(param_group_t), intent(inout) :: self
     character(len=*), intent(in) :: name
+    character(len=*), intent(in), optional :: about
     self%name = name
+    self%about = ''
+    if (present(about)) self%about = about
     self%n = 0
     if (allocated(self%p)) deallocate(self%p)
     allocate(self%p(16))
   end subroutine init
 
-  subroutine push(self, name, value, unit, meaning, set)
+  subroutine push(self, name, value, unit, meaning, set, kind, allowed)
     class(param_group_t), intent(inout) :: self
-    character(len=*), intent(in) :: name, value, unit, meaning
+    character(len=*), intent(in) :: name, value, unit, meaning, kind
     logical, intent(in) :: set
+    character(len=*), intent(in), optional :: allowed
     type(param_t), allocatable :: tmp(:)
+    character(len=:), allocatable :: a
     if (.not. allocated(self%p)) allocate(self%p(16))
     if (self%n == size(self%p)) then
       allocate(tmp(2 * self%n))
       tmp(1:self%n) = self%p(1:self%n)
       call move_alloc(tmp, self%p)
     end if
+    a = ''
+    if (present(allowed)) a = allowed
     self%n = self%n + 1
-    self%p(self%n) = param_t(name=name, value=value, unit=unit, meaning=meaning, set=set)
+    self%p(self%n) = param_t(name=name, value=value, unit=unit, meaning=meaning, kind=kind, allowed=a, set=set)
   end subroutine push
 
-  !> A real variable; unit without brackets ('Pa', 'm^2', '-').
-  subroutine add_real(self, name, x, unit, meaning)
+  !> A real variable; unit without brackets ('Pa', 'm^2', '-'); allowed:
+  !> the values the reader accepts, e.g. '> 0' (every add procedure takes it).
+  subroutine add_real(self, name, x, unit, meaning, allowed)
     class(param_group_t), intent(inout) :: self
     character(len=*), intent(in) :: name, unit, meaning
     real(rp), intent(in) :: x
-    call self%push(name, real_text(x), unit, meaning, .true.)
+    character(len=*), intent(in), optional :: allowed
+    call self%push(name, real_text(x), unit, meaning, .true., 'real', allowed)
   end subroutine add_real
 
-  subroutine add_reals(self, name, x, unit, meaning)
+  !> An array of reals; kind: 'real(n)' with n its size unless given (a
+  !> list of any length: 'real list').
+  subroutine add_reals(self, name, x, unit, meaning, allowed, kind)
     class(param_group_t), intent(inout) :: self
     character(len=*), intent(in) :: name, unit, meaning
     real(rp), intent(in) :: x(:)
+    character(len=*), intent(in), optional :: allowed, kind
     character(len=:), allocatable :: v
     integer :: i
     v = ''
@@ -92,20 +116,22 @@ contains
       if (i > 1) v = v//', '
       v = v//real_text(x(i))
     end do
-    call self%push(name, v, unit, meaning, .true.)
+    call self%push(name, v, unit, meaning, .true., array_kind('real', size(x), kind), allowed)
   end subroutine add_reals
 
-  subroutine add_int(self, name, i, unit, meaning)
+  subroutine add_int(self, name, i, unit, meaning, allowed)
     class(param_group_t), intent(inout) :: self
     character(len=*), intent(in) :: name, unit, meaning
     integer, intent(in) :: i
-    call self%push(name, itoa(i), unit, meaning, .true.)
+    character(len=*), intent(in), optional :: allowed
+    call self%push(name, itoa(i), unit, meaning, .true., 'integer', allowed)
   end subroutine add_int
 
-  subroutine add_ints(self, name, i, unit, meaning)
+  subroutine add_ints(self, name, i, unit, meaning, allowed, kind)
     class(param_group_t), intent(inout) :: self
     character(len=*), intent(in) :: name, unit, meaning
     integer, intent(in) :: i(:)
+    character(len=*), intent(in), optional :: allowed, kind
     character(len=:), allocatable :: v
     integer :: k
     v = ''
@@ -113,29 +139,32 @@ contains
       if (k > 1) v = v//', '
       v = v//itoa(i(k))
     end do
-    call self%push(name, v, unit, meaning, .true.)
+    call self%push(name, v, unit, meaning, .true., array_kind('integer', size(i), kind), allowed)
   end subroutine add_ints
 
-  subroutine add_logical(self, name, l, unit, meaning)
+  subroutine add_logical(self, name, l, unit, meaning, allowed)
     class(param_group_t), intent(inout) :: self
     character(len=*), intent(in) :: name, unit, meaning
     logical, intent(in) :: l
-    call self%push(name, logical_text(l), unit, meaning, .true.)
+    character(len=*), intent(in), optional :: allowed
+    call self%push(name, logical_text(l), unit, meaning, .true., 'logical', allowed)
   end subroutine add_logical
 
   !> A character variable (trailing blanks dropped, quoted).
-  subroutine add_string(self, name, s, unit, meaning)
+  subroutine add_string(self, name, s, unit, meaning, allowed)
     class(param_group_t), intent(inout) :: self
     character(len=*), intent(in) :: name, unit, meaning
     character(len=*), intent(in) :: s
-    call self%push(name, quoted(s), unit, meaning, .true.)
+    character(len=*), intent(in), optional :: allowed
+    call self%push(name, quoted(s), unit, meaning, .true., 'string', allowed)
   end subroutine add_string
 
   !> A list of character values, each quoted.
-  subroutine add_strings(self, name, s, unit, meaning)
+  subroutine add_strings(self, name, s, unit, meaning, allowed)
     class(param_group_t), intent(inout) :: self
     character(len=*), intent(in) :: name, unit, meaning
     character(len=*), intent(in) :: s(:)
+    character(len=*), intent(in), optional :: allowed
     character(len=:), allocatable :: v
     integer :: k
     v = ''
@@ -143,34 +172,54 @@ contains
       if (k > 1) v = v//', '
       v = v//quoted(s(k))
     end do
-    call self%push(name, v, unit, meaning, .true.)
+    call self%push(name, v, unit, meaning, .true., 'string list', allowed)
   end subroutine add_strings
 
   !> A variable the run leaves unset; shown says what that means, e.g.
-  !> '(none)' or '(not set: no limit)'.
-  subroutine add_unset(self, name, shown, unit, meaning)
+  !> '(none)' or '(not set: no limit)'; kind as the add procedure of a
+  !> value would infer it ('real', 'real(3)', 'string', ...).
+  subroutine add_unset(self, name, shown, unit, meaning, kind, allowed)
     class(param_group_t), intent(inout) :: self
     character(len=*), intent(in) :: name, shown, unit, meaning
-    call self%push(name, shown, unit, meaning, .false.)
+    character(len=*), intent(in), optional :: kind, allowed
+    if (present(kind)) then
+      call self%push(name, shown, unit, meaning, .false., kind, allowed)
+    else
+      call self%push(name, shown, unit, meaning, .false., '', allowed)
+    end if
   end subroutine add_unset
 
   !> name(1..n) of values: each element whose magnitude is below huge is
   !> set, the others (a bound left open, +-huge) are shown as `shown`.
-  subroutine add_bounds(self, name, values, shown, unit, meaning)
+  subroutine add_bounds(self, name, values, shown, unit, meaning, allowed)
     class(param_group_t), intent(inout) :: self
     character(len=*), intent(in) :: name, shown, unit, meaning
     real(rp), intent(in) :: values(:)
+    character(len=*), intent(in), optional :: allowed
     character(len=len(name) + 12) :: v
     integer :: i
     do i = 1, size(values)
       write(v, '(a,a,i0,a)') name, '(', i, ')'
       if (abs(values(i)) < huge(1.0_rp)) then
-        call self%add(trim(v), values(i), unit, meaning)
+        call self%add(trim(v), values(i), unit, meaning, allowed)
       else
-        call self%add_unset(trim(v), shown, unit, meaning)
+        call self%add_unset(trim(v), shown, unit, meaning, 'real', allowed)
       end if
     end do
   end subroutine add_bounds
+
+  !> 'real(3)' for an array of 3 reals, or the kind the caller gives.
+  function array_kind(base, n, kind) result(k)
+    character(len=*), intent(in) :: base
+    integer, intent(in) :: n
+    character(len=*), intent(in), optional :: kind
+    character(len=:), allocatable :: k
+    if (present(kind)) then
+      k = kind
+    else
+      k = base//'('//itoa(n)//')'
+    end if
+  end function array_kind
 
   !> Remove variable var (and its elements var(i)), e.g. one the physics
   !> does not use.

@@ -122,18 +122,21 @@ contains
     if (allocated(self%hist_t)) factor = history_factor(self%hist_t, self%hist_f, t)
   end function factor
 
-  !> The resolved &pressure_change group.
   subroutine describe_pressure_change(self, g)
     class(pressure_change_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('pressure_change')
-    call g%add('region', self%region, '-', 'mesh region')
-    call g%add('value', self%value, 'Pa', 'change of pore pressure at full load (negative: depletion)')
+    call g%init('pressure_change', 'a given change of pore pressure over a region (a depletion, a reservoir '// &
+                "simulator's pressures), felt through &material biot and on the faults' faces")
+    call g%add('region', self%region, '-', 'mesh region', 'a region of the mesh')
+    call g%add('value', self%value, 'Pa', 'change of pore pressure at full load, grown with the load like the '// &
+               'other loads (negative: depletion)')
     call g%add('history', absolute_path(self%history), '-', "file of 'time factor' rows scaling value ('': none)")
     if (self%has_point) then
-      call g%add('point', self%point, 'm', 'a point of the fault block of the region that changes')
+      call g%add('point', self%point, 'm', 'restricts the change to the fault block of the region that holds '// &
+                 'this point', 'inside the region')
     else
-      call g%add_unset('point', '(none: all of the region)', 'm', 'a point of the fault block of the region that changes')
+      call g%add_unset('point', '(none: all of the region)', 'm', 'restricts the change to the fault block of '// &
+                       'the region that holds this point', 'real(3)', 'inside the region')
     end if
   end subroutine describe_pressure_change
 end module pressure_change_config

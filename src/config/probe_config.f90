@@ -81,20 +81,27 @@ contains
     end do
   end subroutine read_probes
 
-  !> The resolved &probe group of p.
   subroutine describe_probe(p, g)
     type(probe_config_t), intent(in) :: p
     type(param_group_t), intent(out) :: g
-    call g%init('probe')
-    call g%add('name', p%name, '-', 'column prefix in <prefix>_probes.csv')
+    call g%init('probe', 'time histories of fields at points or averaged over a surface set, columns of '// &
+                '<prefix>_probes.csv')
+    call g%add('name', p%name, '-', 'column prefix in <prefix>_probes.csv', "letters, digits, '_'; unique")
     if (size(p%points, 2) > 0) then
-      call g%add('x', p%points(1, :), 'm', 'x of the probed points')
-      call g%add('y', p%points(2, :), 'm', 'y of the probed points')
-      call g%add('z', p%points(3, :), 'm', 'z of the probed points')
+      call g%add('x', p%points(1, :), 'm', 'x of the probed points (x, y, z or set)', 'up to 64', 'real list')
+      call g%add('y', p%points(2, :), 'm', 'y of the probed points', 'as many as x', 'real list')
+      call g%add('z', p%points(3, :), 'm', 'z of the probed points', 'as many as x', 'real list')
+      call g%add_unset('set', '(none: points)', '-', 'a surface set instead of points: the mean over it', 'string')
     else
-      call g%add('set', p%set, '-', 'surface set averaged over')
+      call g%add_unset('x', '(none: a set)', 'm', 'x of the probed points (x, y, z or set)', 'real list', &
+                       'up to 64')
+      call g%add_unset('y', '(none: a set)', 'm', 'y of the probed points', 'real list', 'as many as x')
+      call g%add_unset('z', '(none: a set)', 'm', 'z of the probed points', 'real list', 'as many as x')
+      call g%add('set', p%set, '-', 'a surface set instead of points: the mean over it')
     end if
-    call g%add('fields', p%fields, '-', 'probed quantities')
+    call g%add('fields', p%fields, '-', "what to probe: ux, uy, uz [m]; p [Pa] (biot); sxx ... sxz [Pa], "// &
+               "total stress, tension positive", "up to 16 of 'ux', 'uy', 'uz', 'p', 'sxx', 'syy', 'szz', "// &
+               "'sxy', 'syz', 'sxz'")
   end subroutine describe_probe
 
   !> The checks of one group that need no mesh.

@@ -96,9 +96,12 @@ contains
   subroutine describe_region(self, g)
     class(region_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('region')
-    call g%add('name', self%name, '-', 'region name (&material region, &source region)')
-    call g%add_bounds('lower', self%lower, '(open)', 'm', 'lower corner of the box of cell centres')
-    call g%add_bounds('upper', self%upper, '(open)', 'm', 'upper corner of the box of cell centres')
+    call g%init('region', "a named region of a generated box, the cells whose centres lie in a box "// &
+                "(box meshes only; later groups win where they overlap)")
+    call g%add('name', self%name, '-', 'region name, as &material region and &source region name it', &
+               "unique, not 'domain'")
+    call g%add_bounds('lower', self%lower, '(open)', 'm', 'lower corner of the box of cell centres (a '// &
+                      'component left out is open)')
+    call g%add_bounds('upper', self%upper, '(open)', 'm', 'upper corner of the box of cell centres', '> lower')
   end subroutine describe_region
 end module region_config

@@ -255,51 +255,65 @@ contains
     class(run_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: groups(3)
     associate (g => groups(1))
-      call g%init('run')
-      call g%add('title', self%title, '-', 'free text shown in the log')
-      call g%add('physics', self%physics, '-', "'elasticity', 'biot' or 'contact'")
-      call g%add('verbosity', self%verbosity, '-', 'screen: 0 quiet, 1 progress, 2 also the parameters')
+      call g%init('run', 'what to run: the physics, the screen output, a restart')
+      call g%add('title', self%title, '-', 'free text shown in the log', 'up to 128 characters')
+      call g%add('physics', self%physics, '-', 'what to solve (see the physics table)', &
+                 "'elasticity', 'biot', 'contact' or 'fracture_flow'")
+      call g%add('verbosity', self%verbosity, '-', 'screen: 0 quiet, 1 progress, 2 also the parameters (the log '// &
+                 'file always gets everything)', '0, 1 or 2')
       if (len_trim(self%restart) > 0) then
         call g%add('restart', absolute_path(self%restart), '-', 'checkpoint file the run resumed from')
       else
-        call g%add_unset('restart', '(none)', '-', 'checkpoint file to resume from')
+        call g%add_unset('restart', '(none)', '-', 'checkpoint file to resume from (written by the same deck on '// &
+                         'the same number of ranks; relative to the working directory)', 'string', &
+                         'a geoblock checkpoint')
       end if
     end associate
     associate (g => groups(2))
-      call g%init('time')
-      call g%add('n_steps', self%n_steps, '-', 'load steps; loads reach their full value at the last')
+      call g%init('time', 'the steps: load steps, or time steps with their sizes')
+      call g%add('n_steps', self%n_steps, '-', 'load steps; loads reach their full value at the last', &
+                 '>= 1, <= max_steps')
       if (allocated(self%times)) then
-        call g%add('times', self%times, 's', 'step end times')
+        call g%add('times', self%times, 's', 'step end times (replace dt, t_end, dt_growth, dt_max)', &
+                   '> 0, increasing, at most 4096', 'real list')
       else
         if (self%dt /= unset_real) then
-          call g%add('dt', self%dt, 's', 'first time step')
+          call g%add('dt', self%dt, 's', 'first time step', '> 0')
         else
-          call g%add_unset('dt', '(not set)', 's', 'first time step')
+          call g%add_unset('dt', '(not set)', 's', 'first time step', 'real', '> 0')
         end if
         if (self%t_end /= unset_real) then
-          call g%add('t_end', self%t_end, 's', 'end time')
+          call g%add('t_end', self%t_end, 's', 'end time', '> 0')
         else
-          call g%add_unset('t_end', '(not set)', 's', 'end time')
+          call g%add_unset('t_end', '(not set)', 's', 'end time', 'real', '> 0')
         end if
+        call g%add_unset('times', '(none: dt and t_end)', 's', 'step end times (replace dt, t_end, dt_growth, '// &
+                         'dt_max)', 'real list', '> 0, increasing, at most 4096')
       end if
-      call g%add('dt_growth', self%dt_growth, '-', 'ratio of successive steps')
+      call g%add('dt_growth', self%dt_growth, '-', 'ratio of successive steps', '>= 1')
       if (self%dt_max < huge(1.0_rp)) then
-        call g%add('dt_max', self%dt_max, 's', 'largest step')
+        call g%add('dt_max', self%dt_max, 's', 'largest step', '> 0')
       else
-        call g%add_unset('dt_max', '(none)', 's', 'largest step (none: no limit)')
+        call g%add_unset('dt_max', '(none)', 's', 'largest step (none: no limit)', 'real', '> 0')
       end if
-      call g%add('undrained', self%undrained, '-', 'start with the undrained response at t = 0')
-      call g%add('max_steps', self%max_steps, '-', 'bound on the number of steps')
+      call g%add('undrained', self%undrained, '-', 'start with the undrained (instantaneous) response at t = 0: '// &
+                 'step 0')
+      call g%add('max_steps', self%max_steps, '-', 'the most steps a run may take (the steps dt, dt_growth and '// &
+                 'dt_max need to reach t_end are counted when the deck is read)', '>= 1')
     end associate
     associate (g => groups(3))
-      call g%init('output')
-      call g%add('dir', self%out_dir, '-', 'output directory (relative to the working directory)')
-      call g%add('prefix', self%prefix, '-', 'file name prefix')
+      call g%init('output', 'what the run writes, where, and how often')
+      call g%add('dir', self%out_dir, '-', 'output directory, created if missing (relative to the working '// &
+                 'directory)', 'not empty')
+      call g%add('prefix', self%prefix, '-', 'file name prefix of every output file', 'a file name: no blanks or /')
       call g%add('fields', self%fields, '-', 'write HDF5 fields + XDMF')
-      call g%add('every', self%every, '-', 'write every n-th step (the first and last always)')
-      call g%add('export_matrix', self%export_matrix, '-', 'write the first system in MatrixMarket format')
-      call g%add('checkpoint_every', self%checkpoint_every, '-', 'checkpoint every n-th step (0 never)')
-      call g%add('checkpoint_file', self%checkpoint_given, '-', "checkpoint path ('': <dir>/<prefix>_checkpoint.h5)")
+      call g%add('every', self%every, '-', 'write every n-th step (the first and last always)', '>= 1')
+      call g%add('export_matrix', self%export_matrix, '-', 'write the first linear system as assembled '// &
+                 '(MatrixMarket <prefix>_K.mtx, <prefix>_rhs.mtx)')
+      call g%add('checkpoint_every', self%checkpoint_every, '-', 'checkpoint every n-th step (0 never; SIGTERM '// &
+                 'and SIGUSR1 write one anyway)', '>= 0')
+      call g%add('checkpoint_file', self%checkpoint_given, '-', "checkpoint path, overwritten at each checkpoint; "// &
+                 "a plain name goes into dir ('': <dir>/<prefix>_checkpoint.h5)")
     end associate
   end subroutine describe_run_config
 

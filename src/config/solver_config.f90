@@ -182,24 +182,40 @@ contains
   subroutine describe_solver_config(self, g)
     class(solver_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('solver')
-    call g%add('method', self%method, '-', "'fgmres', 'cg' or 'mumps'")
-    call g%add('precon', self%precon, '-', "'boomeramg', 'jacobi', 'afsai', 'hypre_fsai', 'none', 'block' or 'mgr'")
-    call g%add('rtol', self%rtol, '-', 'relative residual tolerance')
-    call g%add('atol', self%atol, '-', 'absolute residual tolerance')
-    call g%add('max_iter', self%max_iter, '-', 'iteration cap')
-    call g%add('restart', self%restart, '-', 'FGMRES restart length')
-    call g%add('fail_on_no_convergence', self%fail_on_no_convergence, '-', 'a solve that does not converge fails')
-    call g%add('decoupling', self%decoupling, '-', "biot: 'implicit' or 'explicit' decoupling factors")
-    call g%add('block_mode', self%block_mode, '-', "biot: 'ldu', 'ldu_cheap', 'lower', 'upper' or 'diagonal'")
-    call g%add('k_precon', self%k_precon, '-', "biot: preconditioner of K, 'boomeramg' or 'afsai'")
-    call g%add('flux_precon', self%flux_precon, '-', "biot: preconditioner of A, 'jacobi', 'boomeramg' or 'afsai'")
-    call g%add('elastic_reference', self%elastic_reference, '-', 'also solve K u = f once with CG + BoomerAMG')
-    call g%add('schur', self%schur, '-', "biot: 'fixed_stress', 'algebraic' or 'explicit' Schur complement")
-    call g%add('schur_precon', self%schur_precon, '-', "biot: Schur preconditioner, 'boomeramg' or 'afsai'")
-    call g%add('mumps_layout', self%mumps_layout, '-', "'host' (rank 0 factorizes: bit-identical repeats) or "// &
-               "'distributed'")
-    call g%add('export_step', self%export_step, '-', 'write the linear system of this step (-1: none)')
-    call g%add('export_newton', self%export_newton, '-', 'the Newton iteration of export_step to write')
+    call g%init('solver', "the linear solver of each Newton iteration and the block preconditioner's parts")
+    call g%add('method', self%method, '-', "Krylov method, or the direct solver ('cg': elasticity only)", &
+               "'fgmres', 'cg' or 'mumps'")
+    call g%add('precon', self%precon, '-', "preconditioner: 'block' (ours) and 'mgr' (hypre's MGR) for biot, "// &
+               "contact and fracture_flow, the others for elasticity", &
+               "'boomeramg', 'jacobi', 'afsai', 'hypre_fsai', 'none', 'block' or 'mgr'")
+    call g%add('rtol', self%rtol, '-', 'relative residual tolerance (of the scaled system where the physics '// &
+               'scales it)', '(0, 1)')
+    call g%add('atol', self%atol, '-', 'absolute residual tolerance', '>= 0')
+    call g%add('max_iter', self%max_iter, '-', 'iteration cap', '>= 1')
+    call g%add('restart', self%restart, '-', 'FGMRES restart length', '>= 1')
+    call g%add('fail_on_no_convergence', self%fail_on_no_convergence, '-', 'a solve that does not converge '// &
+               'fails the step (which is then cut, or stops the run)')
+    call g%add('decoupling', self%decoupling, '-', 'biot: decoupling factors F, G of the block preconditioner: '// &
+               'implicit (products with the coupling blocks) or explicit (block aFSAI, &block_fsai)', &
+               "'implicit' or 'explicit'")
+    call g%add('block_mode', self%block_mode, '-', "biot: which factors are applied ('ldu_cheap': Jacobi in G, "// &
+               "one AMG cycle of K per iteration; explicit: default 'ldu')", &
+               "'ldu', 'ldu_cheap' (implicit only), 'lower', 'upper' or 'diagonal'")
+    call g%add('k_precon', self%k_precon, '-', 'biot: preconditioner of K', "'boomeramg' or 'afsai'")
+    call g%add('flux_precon', self%flux_precon, '-', 'biot: preconditioner of the Darcy mass block A', &
+               "'jacobi', 'boomeramg' or 'afsai'")
+    call g%add('elastic_reference', self%elastic_reference, '-', 'biot, contact: also solve K u = f once with '// &
+               'CG + BoomerAMG and log its cost (the benchmarks'' reference)')
+    call g%add('schur', self%schur, '-', "biot: the pressure Schur complement: fixed stress or Q^T diag(K)^-1 Q, "// &
+               "each + the scaled Laplacian, or explicit from the factors (explicit: default 'explicit')", &
+               "'fixed_stress', 'algebraic' or 'explicit' (explicit decoupling only)")
+    call g%add('schur_precon', self%schur_precon, '-', 'biot: preconditioner of the Schur complement', &
+               "'boomeramg' or 'afsai'")
+    call g%add('mumps_layout', self%mumps_layout, '-', "method = 'mumps': 'host' (rank 0 factorizes: "// &
+               "bit-identical repeats) or 'distributed' (over all ranks: memory spread, last digits vary)", &
+               "'host' or 'distributed'")
+    call g%add('export_step', self%export_step, '-', 'write the linear system of this step (0: the equilibrium '// &
+               'step) as the Krylov solver sees it, MatrixMarket (-1: none)', '>= -1')
+    call g%add('export_newton', self%export_newton, '-', 'the Newton iteration of export_step to write', '>= 1')
   end subroutine describe_solver_config
 end module solver_config

@@ -53,12 +53,12 @@ contains
     end do
   end subroutine read_sources
 
-  !> The resolved &source group.
   subroutine describe_source(self, g)
     class(source_config_t), intent(in) :: self
     type(param_group_t), intent(out) :: g
-    call g%init('source')
-    call g%add('region', self%region, '-', 'mesh region')
-    call g%add('rate', self%rate, '1/s', 'fluid volume injected per unit rock volume and second')
+    call g%init('source', 'a fluid source spread uniformly over a region')
+    call g%add('region', self%region, '-', 'mesh region', 'a region of the mesh')
+    call g%add('rate', self%rate, '1/s', 'volume of fluid injected per unit volume of rock and second '// &
+               '(negative: extraction)')
   end subroutine describe_source
 end module source_config

@@ -2,11 +2,14 @@
 !>
 !> Usage: mpirun -np N geoblock DECK.nml
 !>        geoblock --check DECK.nml     read and check the deck, print it resolved, no run
-!>        geoblock --help | --version
-!> The deck is a file of namelist groups (see README.md and input/). The
-!> physics named in &run is made by simulation_factory and run by the one
-!> time loop (time_loop.f90).
+!>        geoblock --help [GROUP]       usage, or every variable of one deck group
+!>        geoblock --reference          every group and variable as Markdown (doc/reference/decks.md)
+!>        geoblock --version
+!> The deck is a file of namelist groups (doc/decks.md, doc/reference/decks.md
+!> and input/). The physics named in &run is made by simulation_factory and
+!> run by the one time loop (time_loop.f90).
 program geoblock
+  use, intrinsic :: iso_fortran_env, only: output_unit
   use kinds, only: path_len
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
@@ -22,6 +25,8 @@ program geoblock
   use time_loop, only: run_simulation, read_physics_groups
   use probe_config, only: probe_config_t
   use run_parameters, only: show_parameters
+  use deck_reference, only: reference_t
+  use deck_catalogue, only: build_reference
   use build_info, only: geoblock_version, git_commit, built_against
   implicit none
 
@@ -44,7 +49,8 @@ program geoblock
   call comm%init_world()
   call log%init(comm)
   call command_line(comm, log, mode, path)
-  if (mode == 'help') call say_and_end(usage_text())
+  if (mode == 'help' .and. len_trim(path) == 0) call say_and_end(usage_text())
+  if (mode == 'help' .or. mode == 'reference') call reference_mode()
   if (mode == 'version') call say_and_end(version_text())
 
   call d%load(comm, trim(path), status)
@@ -69,8 +75,9 @@ program geoblock
 
 contains
 
-  !> The mode ('run', 'check', 'help', 'version') and the deck path from the
-  !> command line; a wrong command line stops with the usage.
+  !> The mode ('run', 'check', 'help', 'reference', 'version') and the deck
+  !> path (for 'help': the group asked about, or '') from the command line;
+  !> a wrong command line stops with the usage.
   subroutine command_line(comm, log, mode, path)
     type(parallel_comm_t), intent(inout) :: comm
     type(logger_t), intent(inout) :: log
@@ -92,6 +99,8 @@ contains
         mode = 'version'
       else if (arg == '--check') then
         mode = 'check'
+      else if (arg == '--reference') then
+        mode = 'reference'
       else if (arg(1:1) == '-') then
         problem = "unknown option '"//trim(arg)//"'"
       else if (len_trim(path) > 0) then
@@ -101,9 +110,14 @@ contains
       end if
       if (len(problem) > 0) exit
     end do
-    if (mode == 'help' .or. mode == 'version') return
+    if (mode == 'help' .and. len(problem) == 0) return
+    if (mode == 'version') return
+    if (mode == 'reference' .and. len(problem) == 0 .and. len_trim(path) > 0) &
+      problem = "--reference takes no deck (got '"//trim(path)//"')"
+    if (mode == 'reference' .and. len(problem) == 0) return
     if (len(problem) == 0 .and. len_trim(path) == 0) problem = 'no deck given'
-    if (len(problem) > 0) call log%fatal(comm, problem//'; usage: geoblock [--check] DECK.nml | --help | --version')
+    if (len(problem) > 0) call log%fatal(comm, problem//'; usage: geoblock [--check] DECK.nml | --help [GROUP] '// &
+                                         '| --reference | --version')
   end subroutine command_line
 
   !> Print text on rank 0 and end the run with status 0.
@@ -120,7 +134,9 @@ contains
     integer :: k
     s = 'usage: mpirun -np N geoblock DECK.nml     run the deck'//nl// &
         '       geoblock --check DECK.nml          read and check the deck, print it resolved, run nothing'//nl// &
-        '       geoblock --help | --version'//nl//nl// &
+        '       geoblock --help [GROUP]            this text, or every variable of one deck group'//nl// &
+        '       geoblock --reference               every group and variable, as Markdown'//nl// &
+        '       geoblock --version'//nl//nl// &
         'A deck is a file of Fortran namelist groups (&name ... /). Groups:'//nl
     do k = 1, size(groups)
       s = s//'  &'//trim(groups(k))
@@ -128,8 +144,9 @@ contains
       s = s//nl
     end do
     s = s//'physics (&run physics): '//physics_names//nl// &
-        'Every variable, its unit and default: README.md, section Decks; examples in input/.'//nl// &
-        'Exit status: 0 done, 2 bad input or a run that cannot go on (one "geoblock: error:" line).'
+        'Every variable with its type, unit, default and allowed values: geoblock --help GROUP, or'//nl// &
+        'doc/reference/decks.md; how decks work: doc/decks.md; the manual: doc/README.md; examples in input/.'// &
+        nl//'Exit status: 0 done, 2 bad input or a run that cannot go on (one "geoblock: error:" line).'
   end function usage_text
 
   function version_text() result(s)
@@ -137,6 +154,27 @@ contains
     s = 'geoblock '//geoblock_version//' (commit '//git_commit//')'//new_line('a')// &
         'built against: '//built_against
   end function version_text
+
+  !> --reference: the deck reference as Markdown; --help GROUP: one group
+  !> of it as text. Both read example decks of every physics (deck_catalogue).
+  subroutine reference_mode()
+    type(reference_t) :: ref
+    character(len=:), allocatable :: topic
+    call build_reference(comm, groups, repeatable, ref, status)
+    if (.not. status%ok()) call log%fatal(comm, status%msg)
+    if (mode == 'reference') then
+      if (comm%is_root()) call ref%markdown(output_unit, 'geoblock '//geoblock_version)
+    else
+      topic = trim(path)
+      if (topic(1:1) == '&') topic = topic(2:)
+      if (.not. ref%has_group(topic)) call log%fatal(comm, "--help: no deck group '"//trim(path)//"'; the "// &
+                                                     'groups: '//ref%group_names())
+      if (comm%is_root()) call ref%group_text(output_unit, topic)
+    end if
+    flush(output_unit)
+    call comm%finalize()
+    call end_process(0)
+  end subroutine reference_mode
 
   !> --check: read every group the physics uses, print the resolved deck
   !> (what <prefix>_parameters.nml of a run would hold; the output is a

@@ -1136,7 +1136,7 @@ contains
   !> normal and the cell edges that leave its tip elements (elements with an
   !> unsplit node), 0 for a fault without tips. Where the cells on the two
   !> sides are not mirror images near a tip, Q1 couples slip to a normal
-  !> force that grows under refinement (README, contact verification).
+  !> force that grows under refinement (doc/contact.md, tips on skewed cells).
   !> Collective.
   function tip_skew(self, mesh) result(worst)
     class(contact_t), intent(in) :: self

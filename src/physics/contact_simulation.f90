@@ -428,7 +428,7 @@ contains
       if (skew(f) > max_tip_skew) call log%warn("fault '"//trim(self%faults(f)%name)// &
         "': the cells at its tips cross it at up to "//rtoa(real(nint(skew(f)), rp))//' degrees from its normal: '// &
         'where it slips, its tip elements'' tractions are then wrong by a share that grows under refinement; '// &
-        'mesh the tip regions with cells perpendicular to the fault (README: contact verification)')
+        'mesh the tip regions with cells perpendicular to the fault (doc/contact.md, tips on skewed cells)')
     end do
   end subroutine warn_tip_skew
 

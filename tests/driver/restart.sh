@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checkpoint and restart (README, "Restart"), on 1 and 2 ranks:
+# Checkpoint and restart (doc/running.md, "Restart"), on 1 and 2 ranks:
 #  1. elasticity (4 load steps), Biot (Terzaghi, 6 growing time steps after
 #     the undrained one, FGMRES + block preconditioner) and contact (5 load
 #     steps; the fault pressure rises after the checkpoint, so that elements

@@ -26,9 +26,11 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "postproc"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
 import numpy as np  # noqa: E402
 from analytical import Cryer, PoroParams  # noqa: E402
 from geoblock_h5 import Run, script_main  # noqa: E402
+from vreport import record  # noqa: E402
 
 
 def problem(run):
@@ -105,6 +107,8 @@ def main():
     ep = np.max(np.abs(p - c.p0)) / c.p0
     eu = np.max(np.abs(u - u_exact)) / (c.S * c.R / (3.0 * par.K_dr))
     good = ep <= 1e-8 and eu <= 1e-8
+    record("Cryer sphere, undrained step", "pressure B S (largest relative error)", ep, 1e-8)
+    record("Cryer sphere, undrained step", "displacement -S x / (3 K_u) (largest relative error)", eu, 1e-8)
     ok = ok and good
     print(f"undrained step: max |p - B S| / (B S) = {ep:.2e}, max |u + S x/(3 K_u)| / (S R/(3 K)) = {eu:.2e} "
           f"(tol 1e-8) {'ok' if good else 'FAIL'}")
@@ -120,12 +124,14 @@ def main():
         err = abs(centre[i] - exact[i])
         good = err <= a.tol
         ok = ok and good
+        record(f"Cryer sphere, T = {T[i]:.4f}", "centre pressure |p_h - p| / p0", err, a.tol)
         print(f"T = {T[i]:.4f}: centre p_h / p0 = {centre[i]:.4f}, analytical {exact[i]:.4f}, "
               f"|difference| = {err:.4f} (tol {a.tol:g}) {'ok' if good else 'FAIL'}")
     err = np.abs(centre - exact)
     i = int(np.argmax(err))
     good = err[i] <= a.tol
     ok = ok and good
+    record("Cryer sphere, every step", "centre pressure |p_h - p| / p0 (largest)", err[i], a.tol)
     print(f"every step: largest |p_h - p| / p0 = {err[i]:.4f} at T = {T[i]:.4f} (tol {a.tol:g}) "
           f"{'ok' if good else 'FAIL'}")
     k, ke = int(np.argmax(centre)), int(np.argmax(exact))

@@ -40,7 +40,9 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "postproc"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
 from geoblock_h5 import Run  # noqa: E402
+from vreport import record  # noqa: E402
 
 
 def load(path):
@@ -67,7 +69,8 @@ def mass(path, q, tol):
             worst = max(worst, abs(dv - inj) / inj)
         g0, p0 = g, p
     print(f"mass: {len(times) - 1} steps, largest |dV - Q dt| / (Q dt) {worst:.2e}")
-    return worst <= tol
+    return record(f"injection into a fracture, {len(times) - 1} steps", "fluid volume against Q dt (largest relative "
+                  "error)", worst, tol)
 
 
 def sneddon(path, q, lz, tol):
@@ -87,7 +90,10 @@ def sneddon(path, q, lz, tol):
     fmax = float(flux.max())
     print(f"sneddon: t = {t:g} s, mean p {mean:.6e} Pa, exact {exact:.6e} Pa, error {err:.3e}, spread {spread:.2e}, "
           f"largest flux {fmax:.3e} m2/s (Q / (2 LZ) = {q / (2 * lz):.3e})")
-    return err <= tol and np.all(np.isfinite(flux)) and 0.0 < fmax <= q / (2 * lz) * (1 + 1e-12)
+    good = err <= tol and np.all(np.isfinite(flux)) and 0.0 < fmax <= q / (2 * lz) * (1 + 1e-12)
+    record(f"plane strain fracture, {len(p)} elements, t = {t:g} s", "mean pressure against Sneddon's volume "
+           "(relative error)", err, tol, passed=good)
+    return good
 
 
 def penny(path, tol):
@@ -138,6 +144,8 @@ def penny(path, tol):
           f"t = {tk:g} s: V = {injected[-1]:.6e} m3, mean p {mean:.6e} Pa, exact {exact:.6e} Pa, error {err:.3e}, "
           f"spread {spread:.2e}; largest error of the {len(errs)} steps {worst:.3e}; "
           f"fluid volume - injected {balance:.1e}")
+    record(f"penny-shaped fracture, {len(p)} elements", "mean pressure against Sneddon's penny crack (largest "
+           "relative error of the steps)", worst, tol, passed=worst <= tol and balance <= 1e-10)
     return worst <= tol and balance <= 1e-10
 
 
@@ -167,6 +175,8 @@ def cubic(path, a0, mu, dp, length, tol):
     ea = float(np.abs(aperture / a0 - 1.0).max())
     print(f"cubic: {inner.sum()} elements between the prescribed columns, flux {flux[inner].mean():.6e} m2/s against "
           f"a0^3 dp / (12 mu L) = {exact:.6e}: largest error {ef:.2e}; pressure linear to {ep:.2e}; aperture a0 to {ea:.1e}")
+    record(f"closed fracture between two pressures, {inner.sum()} elements", "flux against the cubic law "
+           "(largest relative error)", ef, tol, passed=ef <= tol and ep <= tol and ea == 0.0)
     return ef <= tol and ep <= tol and ea == 0.0
 
 
@@ -205,7 +215,10 @@ def onset(path, tol):
           f"{lo:.4e} and {hi:.4e} Pa (step {first}), error of the midpoint {err:.2e}; far fracture: "
           f"largest pressure {far_p:.1e} Pa, fluid volume {far_v:.1e} m3, slip area {far_s:.1e} m2")
     # the far fracture: round-off only (its stick rows let through jumps of 1e-19 m)
-    return lo < exact <= hi and err <= tol and far_p <= 1e-10 * exact and far_v <= 1e-15 and far_s == 0.0
+    good = lo < exact <= hi and err <= tol and far_p <= 1e-10 * exact and far_v <= 1e-15 and far_s == 0.0
+    record("fault fed by a well, onset of slip", "pressure at the onset against the effective Coulomb limit "
+           "(midpoint of the bracket, relative error)", err, tol, passed=good)
+    return good
 
 
 def split(path, w, h, nl, nr, tol):
@@ -239,6 +252,8 @@ def split(path, w, h, nl, nr, tol):
     shown = ", ".join(f"{f} {rate[f]:.6e} (exact {c * (pw - p_end[f]):.6e})" for f in faults)
     print(f"split: J {j:.4e} m3/(Pa s) ({how}), rates {shown} m3/s: largest error {e_rate:.2e}; "
           f"sum against Q {e_sum:.1e}; q = J (p_w - p) to {e_j:.1e}")
+    record(f"segment well across {len(faults)} fractures ({how})", "each fracture's rate against the conductances "
+           "(largest relative error)", e_rate, tol, passed=e_rate <= tol and e_sum <= 1e-12 and e_j <= 1e-10)
     return e_rate <= tol and e_sum <= 1e-12 and e_j <= 1e-10
 
 

@@ -18,8 +18,10 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "postproc"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
 import numpy as np  # noqa: E402
 from geoblock_h5 import Run, script_main  # noqa: E402
+from vreport import record  # noqa: E402
 
 
 def geertsma(points, e, nu, dp, a, z_top, z_bot):
@@ -56,6 +58,8 @@ def main():
     ez = np.abs(u[top, 2] - ua[:, 2]).max() / uz0
     eh = np.linalg.norm(u[top, :2] - ua[:, :2], axis=1).max() / uz0
     bad = max(ez, eh) > tol
+    record(f"Geertsma's subsidence bowl, {len(top)} surface nodes", "u_z, u_h against Geertsma (largest error / the "
+           "centre subsidence)", max(ez, eh), tol)
     print(f"{'FAIL' if bad else 'ok'}: {len(top)} surface nodes within {rmax:g} m: centre subsidence "
           f"{-u[top][np.argmin(np.hypot(x[top, 0], x[top, 1])), 2]:.4e} m (Geertsma {uz0:.4e}); largest error "
           f"u_z {ez:.4f}, u_h {eh:.4f} of it (tol {tol:g})")

@@ -12,8 +12,10 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "postproc"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
 import numpy as np  # noqa: E402
 from analytical import Mandel, PoroParams  # noqa: E402
+from vreport import record  # noqa: E402
 from geoblock_h5 import Run  # noqa: E402
 
 
@@ -39,6 +41,7 @@ def main():
     p = run.field("pressure", 0)
     e0 = np.max(np.abs(p - m.p0)) / m.p0
     good = e0 < 1e-6
+    record("Mandel, undrained step", "pressure p0 (largest relative error)", e0, 1e-6)
     print(f"undrained step: max |p - p0| / p0 = {e0:.2e} (tol 1e-6) {'ok' if good else 'FAIL'}")
     ok = ok and good
     for target in [float(v) for v in a_.times.split(",")]:
@@ -49,6 +52,8 @@ def main():
             sel, xn = column(x)
             errs.append(abs(p[sel].mean() - float(m.pressure(xn, times[i]))) / m.p0)
         good = max(errs) <= a_.tol
+        record(f"Mandel, T = {T[i]:.4f}", "pressure at x = 0, a/2, 0.9a (largest |p_h - p| / p0)", max(errs),
+               a_.tol, passed=good)
         ok = ok and good
         print(f"T = {T[i]:.4f}: |p_h - p| / p0 at x = 0, a/2, 0.9a: " +
               ", ".join(f"{e:.2e}" for e in errs) + f" (tol {a_.tol:g}) {'ok' if good else 'FAIL'}")
@@ -57,6 +62,8 @@ def main():
     peak = centre.max() / m.p0
     exact_peak = max(float(m.pressure(xn, t)) for t in times) / m.p0
     good = peak > 1.01
+    record("Mandel, centre", "Mandel-Cryer peak p / p0 (error against the analytical peak)",
+           abs(peak - exact_peak), "peak > 1.01", passed=good)
     ok = ok and good
     print(f"Mandel-Cryer effect: centre pressure peaks at {peak:.4f} p0 (analytical {exact_peak:.4f} p0) "
           f"{'ok' if good else 'FAIL'}")

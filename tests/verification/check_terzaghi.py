@@ -14,9 +14,11 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "postproc"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
 import numpy as np  # noqa: E402
 from analytical import PoroParams, Terzaghi  # noqa: E402
 from geoblock_h5 import Run  # noqa: E402
+from vreport import record  # noqa: E402
 
 H, SIGMA0 = 10.0, 1.0e6
 
@@ -47,6 +49,10 @@ def main():
     s0 = -run.field("displacement", 0)[:, 2].min()
     s0_exact = SIGMA0 * H / par.K_vu
     good = e0 < 1e-10 and abs(s0 - s0_exact) / s0_exact < 1e-10
+    record(f"Terzaghi column, {len(np.unique(np.round(zc, 9)))} cells, undrained step", "pressure p0 (largest error)",
+           e0, 1e-10)
+    record(f"Terzaghi column, {len(np.unique(np.round(zc, 9)))} cells, undrained step", "settlement (relative error)",
+           abs(s0 - s0_exact) / s0_exact, 1e-10)
     print(f"undrained step: p0 error {e0:.2e}, settlement {s0:.6e} vs {s0_exact:.6e} {'ok' if good else 'FAIL'}")
     ok = ok and good
     T = np.array([tz.time_factor(t) for t in times])
@@ -60,6 +66,8 @@ def main():
         ex = cell_average(tz, zc, h, times[i])
         err = np.sqrt(np.sum((run.field("pressure", i) - ex) ** 2) / np.sum(ex ** 2))
         good = err <= a.tol and i > 0
+        record(f"Terzaghi column, {len(np.unique(np.round(zc, 9)))} cells, T = {T[i]:.4f}",
+               "pressure (relative L2 error)", err, a.tol, passed=good)
         print(f"T = {T[i]:.4f} (t = {times[i]:.2f} s): pressure relative L2 error {err:.3e} "
               f"(tol {a.tol:g}) {'ok' if good else 'FAIL'}")
         ok = ok and good

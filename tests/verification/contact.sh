@@ -27,6 +27,20 @@ rm -rf "$out"; mkdir -p "$out"
 pass=0; fail=0
 ok() { echo "  ok    $1"; pass=$((pass + 1)); }
 ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
+. tests/common/vreport.sh
+verdict() { awk -v e="$1" -v t="$2" 'BEGIN {print (e + 0 <= t + 0) ? "pass" : "FAIL"}'; }
+vorders() {  # case, quantity, minimum order, errors on meshes halving h: report rows
+  local c=$1 q=$2 m=$3 prev="" o r k=0; shift 3
+  for e in "$@"; do
+    k=$((k + 1)); o=""; r=pass
+    if [ -n "$prev" ]; then
+      o=$(awk -v a="$prev" -v b="$e" 'BEGIN {printf "%.2f", log(a / b) / log(2)}')
+      awk -v o="$o" -v m="$m" 'BEGIN {exit !(o >= m)}' || r=FAIL
+    fi
+    vreport "$c, level $k" "$q" "$e" "${prev:+order >= $m}" "$o" "$r"
+    prev=$e
+  done
+}
 deck() {  # name, source deck, sed expressions
   local name=$1 src=$2; shift 2
   sed -e "s#dir = 'out'#dir = '$out'#" -e "s#prefix = '[a-z_]*'#prefix = '$name'#" "$@" "$src" > "$out/$name.nml"
@@ -73,8 +87,12 @@ for sp in stabilized bubble; do
   sfx=${sp#stabilized}; s=sneddon${sfx:+_$sfx}
   deck "$s" input/sneddon.nml
   space "$s" "$sp"
-  run "$s" 2 && check "Sneddon opening, every element (2 ranks, tol 3%, space $sp)" $PY postproc/plot_fracture.py \
-    "$out/$s" --case sneddon --check 0.03 --png "$out/$s.png"
+  if run "$s" 2; then
+    check "Sneddon opening, every element (2 ranks, tol 3%, space $sp)" $PY postproc/plot_fracture.py \
+      "$out/$s" --case sneddon --check 0.03 --png "$out/$s.png"
+    r=$(error_of "$s" sneddon opening)
+    vreport "Sneddon crack, h = b/20, space $sp" "opening (relative L2, every element)" "$r" 0.03 "" "$(verdict "$r" 0.03)"
+  fi
 done
 e=()
 for lv in "24 6 80 60" "48 10 110 80" "96 20 180 130"; do
@@ -84,6 +102,7 @@ for lv in "24 6 80 60" "48 10 110 80" "96 20 180 130"; do
 done
 if [ ${#e[@]} -eq 3 ]; then
   check "Sneddon convergence (order >= 0.8)" $PY tests/verification/check_contact.py orders "${e[@]}" 0.8
+  vorders "Sneddon crack, h = b/10, b/20, b/40" "opening (relative L2, every element)" 0.8 "${e[@]}"
 fi
 
 # Phan et al.: inclined crack, all slipping; every element, tips included
@@ -108,7 +127,12 @@ for sp in stabilized bubble; do
   deck "${s}2" input/single_fracture.nml
   space "${s}1" "$sp"
   space "${s}2" "$sp"
-  run "${s}1" 1 && phan_check "inclined crack, slip 5 %, every element's t_N, |t_T| 1 % (1 rank, space $sp)" "${s}1" 0.05 0.01
+  if run "${s}1" 1; then
+    phan_check "inclined crack, slip 5 %, every element's t_N, |t_T| 1 % (1 rank, space $sp)" "${s}1" 0.05 0.01
+    r=$(error_of "${s}1" phan slip)
+    vreport "inclined crack (Phan et al.), 38 elements, space $sp" "slip (relative L2, every element)" "$r" 0.05 "" \
+      "$(verdict "$r" 0.05)"
+  fi
   if run "${s}2" 2; then
     phan_check "inclined crack (2 ranks, space $sp)" "${s}2" 0.05 0.01
     check "inclined crack, 1 vs 2 ranks (1e-8, space $sp)" $PY tests/verification/check_contact.py same "$out/${s}1" \
@@ -127,11 +151,16 @@ for lv in "30 10" "60 20" "120 42"; do
   if run "phan_$1" 2; then
     phan_check "inclined crack, psi 30, $1 elements: every element's t_N, |t_T| within 1 %" "phan_$1" 1.0 0.01
     e+=("$(error_of "phan_$1" phan slip)")
+    r=$($PY postproc/plot_fracture.py "$out/phan_$1" --case phan --png "$out/phan_$1.png" | \
+        awk '$1 == "maxerror" && $3 > m {m = $3} END {print m + 0}')
+    vreport "inclined crack (psi 30), $1 elements" "t_N, |t_T| (largest relative error of an element)" "$r" 0.01 "" \
+      "$(verdict "$r" 0.01)"
   fi
 done
 if [ ${#e[@]} -eq 3 ]; then
   check "inclined crack slip convergence, every element (order >= 0.8)" $PY tests/verification/check_contact.py \
     orders "${e[@]}" 0.8
+  vorders "inclined crack (psi 30), 30, 60, 120 elements" "slip (relative L2, every element)" 0.8 "${e[@]}"
 fi
 
 # skewed tips are named: a second fault normal to the dip axis keeps the
@@ -207,7 +236,7 @@ if run block_mumps_bubble 2 && run block_mumps1_bubble 1; then
   run block_augmented_bubble 2 && check "space bubble: FGMRES with the augmented preconditioner vs MUMPS (1e-6)" $PY \
     tests/verification/check_contact.py same "$out/block_mumps_bubble" "$out/block_augmented_bubble" 1e-6
   # W(3,3) cycles on S* (the configuration whose counts stay within 1.3x
-  # over the 5 levels, README: Stable space), and S* by 2 CG steps
+  # over the 5 levels, doc/contact.md: stable space), and S* by 2 CG steps
   stronger block_augmented_bubble_w3 block_augmented_bubble block_mumps_bubble \
     "space bubble: augmented with W(3,3) cycles on S*" \
     "&contact\n  space = 'bubble'\n/\n&amg\n  cycle_type = 'w', num_sweeps = 3\n/\n"

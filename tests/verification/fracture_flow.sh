@@ -14,7 +14,7 @@
 #    tests/decks/flow_penny.nml): mean pressure at every step against Sneddon's
 #    penny crack, p = 3 E Q t / (16 (1 - nu^2) a_eq^3), a_eq from the staircase
 #    disc's area, within 12.5 % at h = a/12 (the error is first order, about
-#    1.3 h / a: 3 % needs h = a/48, README), falling from h = a/6; the fluid
+#    1.3 h / a: 3 % needs h = a/48, doc/benchmarks-history.md), falling from h = a/6; the fluid
 #    volume equals the injected one (1e-10); 1 vs 2 ranks at h = a/6 (1e-8);
 #  - one well along a segment across two fractures held at different end
 #    pressures (tests/decks/flow_split.nml): the steady rates against the
@@ -84,7 +84,7 @@ run penny 2 && check "penny-shaped fracture, h = a/12: mean pressure vs Sneddon'
 if run penny_coarse 2 && [ -f "$out/penny_probes.csv" ]; then
   e1=$($PY tests/verification/check_flow.py penny "$out/penny_coarse" 1 | sed -E 's/.*, error ([0-9.e+-]+),.*/\1/')
   e2=$($PY tests/verification/check_flow.py penny "$out/penny" 1 | sed -E 's/.*, error ([0-9.e+-]+),.*/\1/')
-  # first order, as in plane strain (README: 2.89 % at h = a/48, measured once)
+  # first order, as in plane strain (2.89 % at h = a/48, measured once: doc/benchmarks-history.md)
   if awk -v a="$e1" -v b="$e2" 'BEGIN {exit !(b < a && log(a / b) / log(2) >= 0.7)}'; then
     ok "penny: the pressure error falls at order >= 0.7: h = a/6 $e1, h = a/12 $e2 (order $(awk -v a="$e1" -v b="$e2" 'BEGIN {printf "%.2f", log(a / b) / log(2)}'))"
   else ko "penny: the pressure error does not fall at order >= 0.7: h = a/6 $e1, h = a/12 $e2"; fi

@@ -33,12 +33,14 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "postproc"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
 import numpy as np  # noqa: E402
 from analytical import Mandel, PoroParams, Terzaghi  # noqa: E402
 from check_cryer import constant_step, exact_fields, problem as cryer_problem  # noqa: E402
 from geoblock_h5 import Run, script_main  # noqa: E402
 from plot_mandel import plate_stress  # noqa: E402
 from plot_terzaghi import top_load  # noqa: E402
+from vreport import record  # noqa: E402
 
 _REF = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
                  [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
@@ -98,6 +100,13 @@ def order_table(title, rows, minimum):
             cols.append(f"{orders[key][-1]:.2f}" if k > 0 else "")
         print("| " + " | ".join(cols) + " |")
     ok = all(min(orders[key]) >= v for key, v in minimum.items())
+    names = {"p": "pressure e_p", "pm": "pressure against cell means e_pm", "u": "displacement e_u"}
+    for k in range(1, len(rows)):
+        for j, key in enumerate(("p", "pm", "u")):
+            o = orders[key][k - 1]
+            record(f"{title}, h = {rows[k - 1][0]:.4g} -> {rows[k][0]:.4g} m", names[key] + " (relative L2)",
+                   rows[k][2 + j], f"order >= {minimum[key]:g}" if key in minimum else "", f"{o:.2f}",
+                   passed=o >= minimum.get(key, -1e300))
     verdict = f"{title}: observed orders " + ", ".join(
         f"e_{key} " + " ".join(f"{o:.2f}" for o in orders[key]) + (f" (min {minimum[key]:g})" if key in minimum else "")
         for key in ("p", "pm", "u"))
