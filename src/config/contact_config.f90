@@ -38,7 +38,7 @@
 !>                  the mass rows' terms. A step has converged when every
 !>                  field is within newton_tol (or at round-off: 16 eps
 !>                  times its terms' operands) and the last update changed
-!>                  no status. In (0, 1)                              [1e-6]
+!>                  no status. In (0, 1)                              [1e-8]
 !>   status_tol     relative tolerance of the status checks (tractions against
 !>                  the largest traction, gaps against the largest jump), > 0 [1e-6]
 !>   max_cuts       halvings of a load step whose Newton loop does not
@@ -70,7 +70,7 @@ module contact_config
     character(len=name_len) :: schur_solve = 'vcycle'
     integer :: schur_its = 2
     integer :: max_newton = 30
-    real(rp) :: newton_tol = 1.0e-6_rp
+    real(rp) :: newton_tol = 1.0e-8_rp
     real(rp) :: status_tol = 1.0e-6_rp
     integer :: max_cuts = 4
     logical :: reuse = .true.

@@ -440,11 +440,46 @@ contains
     s%q = ' '
     s%last = s%ln(j:j)
     if (j == n) return
-    if (index(after_string, s%ln(j+1:j+1)) > 0) return
+    ! the value must end there: a separator, a comment, the next value of
+    ! a list or the next assignment (a quote further on in a comment, an
+    ! apostrophe, is no closing one)
+    if (index(after_string, s%ln(j+1:j+1)) > 0 .and. ends_value(s%ln, j + 1)) return
     call scan_fail(self, s%q_var, 'the quoted string opened on line '//itoa(s%q_line)//' ends on line '// &
                    itoa(s%i)//" right before '"//s%ln(j+1:min(n, token_last(s%ln, j+1), j+20))// &
                    "' (a quote missing, or one too many?)", status)
   end subroutine string_char
+
+  !> What follows column k of line ln ends a value: nothing, a separator
+  !> (',', '/', '!', ';'), the next string of a list or the next assignment
+  !> (name, optional subscripts, '=') after blanks.
+  pure logical function ends_value(ln, k)
+    character(len=*), intent(in) :: ln
+    integer, intent(in) :: k
+    integer :: i, n
+    n = len_trim(ln)
+    i = k
+    do while (i <= n)
+      if (ln(i:i) /= ' ' .and. ln(i:i) /= tab) exit
+      i = i + 1
+    end do
+    ends_value = i > n
+    if (ends_value) return
+    ends_value = index(',/!;''"', ln(i:i)) > 0
+    if (ends_value .or. index(letters, ln(i:i)) == 0) return
+    do while (i <= n)
+      if (index(name_chars, ln(i:i)) == 0) exit
+      i = i + 1
+    end do
+    if (i <= n) then
+      if (ln(i:i) == '(') i = i + index(ln(i:n), ')')
+    end if
+    do while (i <= n)
+      if (ln(i:i) /= ' ' .and. ln(i:i) /= tab) exit
+      i = i + 1
+    end do
+    ends_value = i <= n
+    if (ends_value) ends_value = ln(i:i) == '='
+  end function ends_value
 
   !> Character j inside a group, outside strings: a quote opens a string,
   !> '/' ends the group, a name followed by '=' is the variable assigned

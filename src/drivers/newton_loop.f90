@@ -98,6 +98,7 @@ contains
     cut_helps = .true.
     why = ''
     stalled = .false.
+    its = -1
     ratio_before = huge(1.0_rp)
     call self%ls%begin_step()
     ! with a residual test, one assembly more than solves: the residual of
@@ -119,6 +120,10 @@ contains
         end if
         ratio_before = sim%residual_ratio
         if (it > sim%max_newton) exit
+        ! a Krylov solve that stopped at once under the step's tolerance
+        ! floor left the iterate as it was: solve the next one for its own
+        ! digits
+        if (its == 0 .and. .not. self%ls%is_direct()) call self%ls%drop_floor()
       end if
       call self%solve_linear(sim, log, timers, step, t, it, stats, its, stalled, why)
       if (len_trim(why) > 0) then

@@ -841,19 +841,7 @@ contains
         self%rhs(u0 + i - 1) = 0.0_rp
         w(i) = 0.0_rp
       end do
-      ! the forces in balance: loads, internal forces, the faces' tractions
-      self%force_ref = max(pnorm2(mesh%comm, pack(self%f_u, .not. self%mech%fixed(1:u1-u0+1))), &
-                           pnorm2(mesh%comm, self%rhs(u0:u1)), pnorm2(mesh%comm, w))
-      ! and their round-off: |f| + |K| |u| + |C1| |t - t_p|
-      block
-        real(rp), allocatable :: ka(:), ca(:), rmax(:)
-        allocate(ka(u1 - u0 + 1), ca(u1 - u0 + 1), rmax(u1 - u0 + 1))
-        call self%sys%a(self%bu, self%bu)%abs_apply(self%x(u0:u1), ka, rmax)
-        call self%sys%a(self%bu, self%bt)%abs_apply(tp, ca, rmax)
-        ka = abs(self%f_u) + ka + ca
-        where (self%mech%fixed(1:u1-u0+1)) ka = 0.0_rp
-        self%force_noise = pnorm2(mesh%comm, ka)
-      end block
+      call force_scales(self, mesh, self%rhs(u0:u1), w, tp)
       self%rhs(u0:u1) = self%f_u - self%rhs(u0:u1) - w
       do i = 1, u1 - u0 + 1
         if (self%mech%fixed(i)) self%rhs(u0 + i - 1) = 0.0_rp
@@ -878,6 +866,27 @@ contains
       r(1:ne) = r(1:ne) - matmul(hbl(1:ne, 1:no2), v(1:no2))
     end subroutine add_h
   end subroutine assemble_newton
+
+  !> The momentum rows' magnitudes for field_residuals, from the internal
+  !> forces ku = K u and the faces' forces w = C1 (t - t_p) (free rows; tp:
+  !> t - t_p): force_ref, the largest of the loads, ku and w, and
+  !> force_noise, |f| + |K| |u| + |C1| |t - t_p|. Collective.
+  subroutine force_scales(self, mesh, ku, w, tp)
+    type(contact_t), intent(inout) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: ku(:), w(:), tp(:)
+    real(rp), allocatable :: ka(:), ca(:), rmax(:)
+    integer(ip) :: u0, u1
+    call self%sys%block_range(self%bu, u0, u1)
+    self%force_ref = max(pnorm2(mesh%comm, pack(self%f_u, .not. self%mech%fixed(1:u1-u0+1))), &
+                         pnorm2(mesh%comm, ku), pnorm2(mesh%comm, w))
+    allocate(ka(u1 - u0 + 1), ca(u1 - u0 + 1), rmax(u1 - u0 + 1))
+    call self%sys%a(self%bu, self%bu)%abs_apply(self%x(u0:u1), ka, rmax)
+    call self%sys%a(self%bu, self%bt)%abs_apply(tp, ca, rmax)
+    ka = abs(self%f_u) + ka + ca
+    where (self%mech%fixed(1:u1-u0+1)) ka = 0.0_rp
+    self%force_noise = pnorm2(mesh%comm, ka)
+  end subroutine force_scales
 
   !> Constrained traction components of a status.
   pure integer(ip) function ncon(st)

@@ -139,7 +139,7 @@ fi
 deck onset_fgmres tests/decks/flow_onset.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-8#" \
   -e "s#t_end = 58.0#t_end = 6.0#" -e "s#^&fracture_flow#\&fracture_flow\n  pressure_block = 'schur'#"
 if run onset_fgmres 2; then
-  counts=$(awk '/linear its/ {printf "%s ", $5} /^time step/ {printf "| "}' "$out/onset_fgmres.log")
+  counts=$(awk '/^  newton/ {printf "%s ", $5} /^time step/ {printf "| "}' "$out/onset_fgmres.log")
   if awk -v c="$counts" 'BEGIN {n = split(c, f, " "); s = 0; m0 = 0; m = 0
         for (i = 1; i <= n; i++) { if (f[i] == "|") { s++; continue }
           if (s == 0 && f[i] + 0 > m0) m0 = f[i] + 0; if (s > 0 && f[i] + 0 > m) m = f[i] + 0 }
@@ -169,7 +169,7 @@ if run states_mumps 2; then
     printf "&fracture_flow\n  pressure_block = '%s', pressure_precon = '%s'\n/\n" "$pb" "$sp" >> "$out/$name.nml"
     label="pressure_block '$pb'"; [ "$pb" = schur ] && label="$label, S_p by $sp"
     if run "$name" 2; then
-      its=$(grep "linear its" "$out/$name.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
+      its=$(grep "^  newton" "$out/$name.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
       check "FGMRES + u-t-p block preconditioner, $label, vs MUMPS (1e-6; largest count $its)" $PY \
         tests/verification/check_flow.py same "$out/states_mumps" "$out/$name" 1e-6
       [ "$name" = states_schur_boomeramg ] && check "convergence profiles of the linear systems of step 5 (seed's figure)" \
@@ -180,7 +180,7 @@ if run states_mumps 2; then
   deck states_pcg tests/decks/flow_states.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
   printf "&fracture_flow\n  pressure_block = 'eliminated'\n/\n&contact\n  schur_solve = 'pcg'\n/\n" >> "$out/states_pcg.nml"
   if run states_pcg 2; then
-    its=$(grep "linear its" "$out/states_pcg.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
+    its=$(grep "^  newton" "$out/states_pcg.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
     check "FGMRES + u-t-p block preconditioner, S** by 2 PCG steps, vs MUMPS (1e-6; largest count $its)" $PY \
       tests/verification/check_flow.py same "$out/states_mumps" "$out/states_pcg" 1e-6
   fi
@@ -218,15 +218,15 @@ if run nine 2; then
       -e "s#initial_pressure = 4.0e6#initial_pressure = 4.0e6, pressure_block = '$pb'#"
     if run "$name" 2; then
       st2=$(grep -E "^time step" "$out/$name.log" | sed -E 's#.*stick/slip/open ([0-9/]+).*#\1#' | paste -sd' ')
-      its=$(grep "linear its" "$out/$name.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
+      its=$(grep "^  newton" "$out/$name.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
       cuts=$(grep -c "the step is cut" "$out/$name.log")
       [ "$st2" = "$st" ] && [ "$cuts" -eq 0 ] && ok "nine fractures, FGMRES, pressure_block '$pb': MUMPS's statuses, no step cut (largest count $its)" || \
         ko "nine fractures, FGMRES, pressure_block '$pb': statuses $st2 (MUMPS: $st), $cuts step cuts"
       if [ "$pb" = eliminated ]; then
         [ "$its" -le 100 ] && ok "nine fractures, pressure_block 'eliminated': largest count $its <= 100" || \
           ko "nine fractures, pressure_block 'eliminated': largest count $its > 100"
-        m3=$(awk '/^time step/ {k = $3; next} /linear its/ && k == 2 {if ($5 > m) m = $5} END {print m + 0}' "$out/$name.log")
-        m4=$(awk '/^time step/ {k = $3; next} /linear its/ && k == 3 {if ($5 > m) m = $5} END {print m + 0}' "$out/$name.log")
+        m3=$(awk '/^time step/ {k = $3; next} /^  newton/ && k == 2 {if ($5 > m) m = $5} END {print m + 0}' "$out/$name.log")
+        m4=$(awk '/^time step/ {k = $3; next} /^  newton/ && k == 3 {if ($5 > m) m = $5} END {print m + 0}' "$out/$name.log")
         [ "$m4" -gt 0 ] && [ $((4 * m3)) -le $((5 * m4)) ] && \
           ok "nine fractures, 'eliminated': step 3 (slip starts) largest count $m3 <= 1.25x step 4's (all slipping) $m4" || \
           ko "nine fractures, 'eliminated': step 3 (slip starts) largest count $m3 > 1.25x step 4's (all slipping) $m4"
@@ -246,8 +246,8 @@ if run nine 2; then
   deck nine_nosub tests/decks/flow_nine.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10, restart = 300#" \
     -e "s#initial_pressure = 4.0e6#initial_pressure = 4.0e6, subspace_correction = .false.#" -e "s#t_end = 15.0#t_end = 10.0#"
   if run nine_nosub 2; then
-    with=$(awk '/linear its/ {n++; if (n >= 3 && n <= 15) s += $5} END {print s}' "$out/nine_eliminated.log")
-    without=$(awk '/linear its/ {n++; if (n >= 3 && n <= 15) s += $5} END {print s}' "$out/nine_nosub.log")
+    with=$(awk '/^  newton/ {n++; if (n >= 3 && n <= 15) s += $5} END {print s}' "$out/nine_eliminated.log")
+    without=$(awk '/^  newton/ {n++; if (n >= 3 && n <= 15) s += $5} END {print s}' "$out/nine_nosub.log")
     if [ -n "$with" ] && [ -n "$without" ] && [ $((10 * with)) -le $((6 * without)) ]; then
       ok "nine fractures, linear systems 3-15: $with iterations with the subspace correction, $without without (<= 0.6x)"
     else
