@@ -11,7 +11,8 @@
 !> found from the mesh: src/discretization/slab_geometry.f90), the strength
 !> threshold of the displacement block's BoomerAMG (K; S* of contact and
 !> fracture flow) is at least this; the log says when it applies. Scalar
-!> blocks keep their own.
+!> blocks keep their own. On such a slab S*'s BoomerAMG also takes at least
+!> 3 smoothing sweeps (contact_simulation.f90; a larger num_sweeps stays).
 module amg_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t

@@ -25,10 +25,12 @@
 !>   history      optional file of "time factor" rows (# comments): the
 !>                condition's value is multiplied by the factor, linearly
 !>                interpolated in time (constant before the first and after
-!>                the last row); elasticity uses the load factor as time   ['']
+!>                the last row); elasticity and contact use the load
+!>                factor as time                                        ['']
 !> Boundary faces with neither a pressure nor a flux condition are
-!> impermeable (no flow). Elasticity loads are scaled by the load factor of
-!> the step (see &time); poromechanics applies them in full from t = 0+.
+!> impermeable (no flow). Elasticity and contact scale the loads by the load
+!> factor of the step (see &time); biot and fracture_flow apply them in full
+!> from t = 0+.
 module boundary_config
   use kinds, only: rp, name_len, msg_len, path_len
   use parallel_comm, only: parallel_comm_t

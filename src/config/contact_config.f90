@@ -1,5 +1,6 @@
 !> Deck group &contact: the discretization of the contact conditions on the
-!> faults (&fault groups) and the active-set / Newton driver (physics = 'contact').
+!> faults (&fault groups) and the active-set / Newton driver (physics =
+!> 'contact' and 'fracture_flow').
 !>
 !>   space          the discretization: 'stabilized' (Q1 displacements, P0
 !>                  tractions, not inf-sup stable: needs the stabilization)
@@ -17,6 +18,7 @@
 !>                  S = -H_t - C2 diag(K)^-1 C1, preconditioned by schur_precon)
 !>                  or 'augmented' (reordered with H~ = D, the augmentation
 !>                  diagonal, whatever H_t is)
+!>                  (fracture_flow: 'reordered' only)
 !>                                      ['reordered'; 'augmented' for 'bubble']
 !>   schur_precon   classical: 'boomeramg' or 'jacobi' for -S        ['boomeramg']
 !>   aug_scale      scale of the regular diagonal H~ (and D), > 0          [1]
@@ -28,7 +30,7 @@
 !>                  separates the Schur approximation from the AMG; slow)
 !>                                                                    ['vcycle']
 !>   schur_its      schur_solve = 'pcg': CG steps per application, 1..50  [2]
-!>   max_newton     Newton / active-set iterations per load step, >= 1     [30]
+!>   max_newton     Newton / active-set iterations per step, >= 1          [30]
 !>   newton_tol     the Newton loop's tolerance, per field, on the residual of
 !>                  the iterate in physical units: force [N] against the
 !>                  largest of the loads, K u and the faces' forces;
@@ -40,9 +42,13 @@
 !>                  times its terms' operands) and the last update changed
 !>                  no status. In (0, 1)                              [1e-8]
 !>   status_tol     relative tolerance of the status checks (tractions against
-!>                  the largest traction, gaps against the largest jump), > 0 [1e-6]
-!>   max_cuts       halvings of a load step whose Newton loop does not
-!>                  converge before the run stops, >= 0                    [4]
+!>                  the largest traction, gaps against the largest jump),
+!>                  in (0, 1)                                             [1e-6]
+!>   max_cuts       halvings of a step that fails (its Newton loop or a
+!>                  linear solve does not converge) before the run stops;
+!>                  a step whose first linear solve failed and would be
+!>                  repeated by a cut (a load step, the step at t = 0)
+!>                  stops at once, >= 0                                  [4]
 !>   reuse          FGMRES: keep the preconditioner's Schur part (S* and its
 !>                  BoomerAMG, S_p) while every element sticks, as when it was
 !>                  built (with the fluid: at the same step size): the

@@ -2,11 +2,12 @@
 !>
 !> &fracture_flow (optional group):
 !>   viscosity          fluid viscosity mu [Pa s], > 0                    [1e-3]
-!>   residual_aperture  hydraulic aperture a0 of a closed fracture [m], > 0:
+!>   residual_aperture  hydraulic aperture a0 of a closed fracture [m], in
+!>                      (0, 1):
 !>                      the aperture is a = max(g_N, 0) + a0, so that closed
 !>                      fractures still conduct                          [1e-5]
 !>   initial_pressure   fluid pressure in every fracture at the start [Pa]   [0]
-!>   compressibility    fluid compressibility c_f [1/Pa], >= 0: the storage
+!>   compressibility    fluid compressibility c_f [1/Pa], in [0, 1e-3): the storage
 !>                      A a c_f dp of an element; it fixes the pressure of a
 !>                      closed fracture, which the rock does not (water at
 !>                      20 C: 4.5e-10)                                 [4.5e-10]
@@ -18,8 +19,9 @@
 !>                      displacement, by the row sums of its block: the
 !>                      fluid's constraint on the opening joins S* as
 !>                      S** = S* - Q1 D_p^-1 Q2, one AMG per iteration;
-!>                      on the reduced nine-fracture case 2.5x faster
-!>                      over the run than 'schur')             ['eliminated']
+!>                      on the reduced nine-fracture case 2.3x faster
+!>                      over the run than 'schur', measured before the
+!>                      subspace correction)                  ['eliminated']
 !>   pressure_precon    pressure_block = 'schur': preconditioner of S_p,
 !>                      'boomeramg' or 'jacobi'                  ['boomeramg']
 !>   subspace_correction  method = 'fgmres': before the block preconditioner,

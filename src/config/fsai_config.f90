@@ -8,7 +8,7 @@
 !>   tol        stop a row when a step improves it by less, >= 0       [1e-4]
 !>   init       start pattern: 'lower' (lower triangle of the matrix) or
 !>              'diagonal'                                            ['lower']
-!>   drop       drop entries below drop * the row's largest, >= 0        [0]
+!>   drop       drop entries below drop * the row's largest, in [0, 1)    [0]
 !>
 !> &block_fsai: the explicit decoupling factors F ~ K^-1 Q, A^-1 B and the
 !>   explicit Schur complement (decoupling = 'explicit' in &solver)

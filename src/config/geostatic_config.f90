@@ -1,5 +1,5 @@
 !> Deck group &geostatic: the in-situ state a run starts from (elasticity,
-!> contact). Gravity acts along -z; the densities and the ratios K0 are per
+!> contact, biot; fracture_flow refuses it). Gravity acts along -z; the densities and the ratios K0 are per
 !> region (&material density, k0). The state, at depth below the mesh top:
 !>
 !>   total vertical stress  sigma_v(z) = -(surface_stress + gravity * integral
@@ -7,7 +7,8 @@
 !>   pore pressure          p0(z) = fluid_density * gravity * (water_table - z)
 !>                          below the water table, 0 above (none when the
 !>                          water table is not given: a dry column)
-!>   effective stress       sigma'_v = sigma_v + p0, sigma'_h = K0 sigma'_v,
+!>   effective stress       sigma'_v = sigma_v + b p0 (b: &material biot),
+!>                          sigma'_h = K0 sigma'_v,
 !>                          no shear (the solid carries the effective stress;
 !>                          the pore pressure acts on the faults' faces); with
 !>                          &material k0_max, sigma'_H = k0_max sigma'_v along
@@ -15,8 +16,10 @@
 !>                          sigma'_v across it (principal axes horizontal and
 !>                          vertical)
 !>
-!> The run starts with a step 0 that puts the model in equilibrium under
-!> this state with zero displacement (see the physics).
+!> Elasticity and contact start with a step 0 that puts the model in
+!> equilibrium under this state with zero displacement (see the physics);
+!> biot has no such step: its pressure unknown, boundary pressures and
+!> sources are changes from the hydrostatic p0.
 !>
 !>   gravity        acceleration of gravity [m/s^2], > 0               [9.81]
 !>   surface_stress vertical stress on the mesh top from what lies above it

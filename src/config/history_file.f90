@@ -1,7 +1,8 @@
 !> Load histories: two-column text files "time factor" (lines starting with
 !> '#' and blank lines are skipped, times strictly increasing) that scale a
-!> boundary condition (&boundary history) or a fault pressure (&fault
-!> pressure_history) in time, linearly between the rows and constant
+!> boundary condition (&boundary history), a fault pressure (&fault
+!> pressure_history), a well's rate, a fracture pressure or a pressure
+!> change (their history) in time, linearly between the rows and constant
 !> outside them.
 module history_file
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite

@@ -4,7 +4,8 @@
 !>   young         drained Young's modulus E [Pa] (> 0)                [required]
 !>   poisson       drained Poisson's ratio nu (-1 < nu < 0.5)          [required]
 !>   body_force(3) body force per unit volume [N/m^3]                  [0,0,0]
-!> Poromechanics (physics = 'biot'; ignored by elasticity):
+!> Poromechanics (physics = 'biot'; refused by the other physics, except
+!> biot, which weighs a &pressure_change in elasticity and contact):
 !>   biot          Biot coefficient b, 0 <= b <= 1                      [1]
 !>   biot_modulus  Biot modulus M [Pa] (> 0); leave it out for
 !>                 incompressible fluid and grains (1/M = 0)           [1/M = 0]

@@ -1,10 +1,11 @@
 !> Deck groups &run, &time and &output: run control.
 !>
 !> &run      title        free text shown in the log                         ['']
-!>           physics      'elasticity', 'biot' (three-field poromechanics) or
+!>           physics      'elasticity', 'biot' (three-field poromechanics),
 !>                        'contact' (elasticity with frictional faults, &fault
-!>                        and &contact groups); the driver checks the name
-!>                        against simulation_factory                          ['elasticity']
+!>                        and &contact groups) or 'fracture_flow' (contact
+!>                        with fluid in the fractures); the driver checks the
+!>                        name against simulation_factory                   ['elasticity']
 !>           verbosity    screen: 0 quiet, 1 progress lines, 2 also the
 !>                        parameters; the log file always gets all of them [1]
 !>           restart      checkpoint file to resume from (written by a run of
@@ -13,14 +14,17 @@
 !>                        checkpoint's and continues its outputs            [none]
 !> &time     n_steps      elasticity, contact: load steps; loads grow linearly and reach
 !>                        their full value at the last step (>= 1)           [1]
-!>           dt           biot: first time step [s] (> 0)                    [required for biot]
-!>           t_end        biot: end time [s] (> 0)                           [required for biot]
+!>           dt           biot, fracture_flow: first time step [s] (> 0)     [required]
+!>           t_end        biot, fracture_flow: end time [s] (> 0)            [required]
 !>                        (check_transient: required for every physics that
 !>                        steps in time)
-!>           dt_growth    biot: ratio of successive steps (>= 1)             [1]
-!>           dt_max       biot: largest step [s]                             [no limit]
-!>           undrained    biot: start with the undrained response at t = 0  [.true.]
-!>           times        biot: explicit list of step end times [s], increasing;
+!>           dt_growth    biot, fracture_flow: ratio of successive steps (>= 1) [1]
+!>           dt_max       biot, fracture_flow: largest step [s]              [no limit]
+!>           undrained    biot, fracture_flow: a step 0 at t = 0 (biot: the
+!>                        undrained response; fracture_flow: the mechanical
+!>                        equilibrium at the initial pressure)           [.true.]
+!>           times        biot, fracture_flow: explicit list of step end
+!>                        times [s], increasing;
 !>                        replaces dt, dt_growth, dt_max and t_end          [none]
 !>           max_steps    the most steps a run may take (>= 1): n_steps, the
 !>                        number of times, or the steps dt, dt_growth and

@@ -8,7 +8,8 @@
 !>             physics = 'biot': 'block' (the block preconditioner); biot,
 !>             contact and fracture_flow: 'block' (ours) or 'mgr' (hypre's
 !>             MGR on the whole system, GEOS's strategies: the peer of the
-!>             benchmarks, mgr_precon.f90)   ['boomeramg', biot and contact: 'block']
+!>             benchmarks, mgr_precon.f90)
+!>                            ['boomeramg'; biot, contact and fracture_flow: 'block']
 !>   decoupling biot: approximation of the decoupling factors F and G of the
 !>             block framework: 'implicit' (products with the coupling blocks
 !>             and the inner preconditioners) or 'explicit' (block aFSAI
@@ -33,7 +34,10 @@
 !>   atol      absolute residual tolerance, >= 0                         [0]
 !>   max_iter  iteration cap, >= 1                                        [1000]
 !>   restart   FGMRES restart length, >= 1                                [100]
-!>   fail_on_no_convergence  stop the run when a solve does not converge  [.true.]
+!>   fail_on_no_convergence  a Krylov solve that does not converge fails the
+!>             step (cut in half where the physics allows, else the run
+!>             stops; a stall within 10x rtol is accepted with a warning);
+!>             .false.: a warning, and the run goes on                [.true.]
 !>   mumps_layout  where MUMPS factorizes (method = 'mumps'): 'host' (the
 !>             matrix gathered on rank 0 and
 !>             factorized there: repeats are bit-identical) or 'distributed'
