@@ -222,9 +222,9 @@ def main():
     ap.add_argument('--jobs', type=int, default=1)
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
-    todo = cases(not args.full)
+    selected = cases(not args.full)
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        results = list(pool.map(lambda c: run_case(c, args.out), todo))
+        results = list(pool.map(lambda c: run_case(c, args.out), selected))
     passed = failed = 0
     for case, outcome, detail, newton, linear, secs in results:
         a0, h, cf, dt, state, np_ = case
