@@ -44,11 +44,12 @@
 !>   status_tol     relative tolerance of the status checks (tractions against
 !>                  the largest traction, gaps against the largest jump),
 !>                  in (0, 1)                                             [1e-6]
-!>   max_cuts       halvings of a step that fails (its Newton loop or a
-!>                  linear solve does not converge) before the run stops;
-!>                  a step whose first linear solve failed and would be
-!>                  repeated by a cut (a load step, the step at t = 0)
-!>                  stops at once, >= 0                                  [4]
+!>   max_cuts       depth of the halvings of a step that fails (its Newton
+!>                  loop or a linear solve does not converge): its sub-steps
+!>                  may be down to dt / 2^max_cuts, growing back after two
+!>                  easy ones (time_loop advance); a step whose first linear
+!>                  solve failed and would be repeated by a cut (a load
+!>                  step, the step at t = 0) stops at once, >= 0        [8]
 !>   reuse          FGMRES: keep the preconditioner's Schur part (S* and its
 !>                  BoomerAMG, S_p) while every element sticks, as when it was
 !>                  built (with the fluid: at the same step size): the
@@ -78,7 +79,7 @@ module contact_config
     integer :: max_newton = 30
     real(rp) :: newton_tol = 1.0e-8_rp
     real(rp) :: status_tol = 1.0e-6_rp
-    integer :: max_cuts = 4
+    integer :: max_cuts = 8
     logical :: reuse = .true.
   contains
     procedure :: read => read_contact_config
@@ -173,8 +174,9 @@ contains
     call g%add('newton_tol', self%newton_tol, '-', 'relative residual per field of the Newton loop (force, '// &
                'traction, fluid volume of the step, each against the magnitude it balances)', '(0, 1)')
     call g%add('status_tol', self%status_tol, '-', 'relative tolerance of the stick / slip / open checks', '(0, 1)')
-    call g%add('max_cuts', self%max_cuts, '-', 'halvings of a step whose Newton loop does not converge, before '// &
-               'the run stops', '>= 0')
+    call g%add('max_cuts', self%max_cuts, '-', 'halvings of a step whose Newton loop does not converge: its '// &
+               'sub-steps may be down to dt / 2^max_cuts (they grow back after two easy ones) before the run stops', &
+               '>= 0')
     call g%add('reuse', self%reuse, '-', "FGMRES: keep the preconditioner's Schur part (S* and its AMG, S_p) "// &
                'while every element sticks, as when it was built')
   end subroutine describe_contact_config

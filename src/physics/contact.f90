@@ -109,6 +109,8 @@ module contact
     logical, allocatable :: fresh(:)               !< slipping since the last status update (was stick)
     integer(gp), allocatable :: held(:)            !< per fault (of faults(:)): elements held in their status at the last update
     integer(gp), allocatable :: held_open(:)       !< the same, held between open and closed
+    real(rp) :: held_excess = 0.0_rp               !< largest violation of a held element's status at the last update
+                                                   !< (a traction over the largest, or an overlap over the largest jump)
     real(rp), allocatable :: trac(:,:), trac_step(:,:)     !< (3,n) local-frame traction [Pa]
     real(rp), allocatable :: jump(:,:), jump_step(:,:)     !< (3,n) local-frame mean jump [m]
     ! stabilization edges
@@ -558,10 +560,12 @@ contains
           call jpp%add_value(e, e, dt * self%ff%trans(ed))
           call jpp%add_value(e, o, -dt * self%ff%trans(ed))
           if (dp /= 0.0_rp .and. self%ff%da_dg(e) > 0.0_rp) &
-            call jpu%add_block([e], dofs, dt * dp * self%ff%dtrans(s, ed) * be(1:1, :) / self%area(e))
+            call jpu%add_block([e], dofs, dt * dp * self%ff%dtrans(s, ed) * self%ff%da_dg(e) * be(1:1, :) &
+                                          / self%area(e))
           if (dp /= 0.0_rp .and. self%ff%da_dg(o) > 0.0_rp) then
             call free_jump_operator(o, bo, dofo)
-            call jpu%add_block([e], dofo, dt * dp * self%ff%dtrans(3 - s, ed) * bo(1:1, :) / self%area(o))
+            call jpu%add_block([e], dofo, dt * dp * self%ff%dtrans(3 - s, ed) * self%ff%da_dg(o) * bo(1:1, :) &
+                                          / self%area(o))
           end if
           if (.not. self%stabilized) cycle
           m_self = self%eb(1, 1, merge(1, 3, s == 1), ed)
@@ -927,9 +931,7 @@ contains
       self%p = 0.0_rp
       self%p(1:t1-t0+1) = self%x(t0:t1)
       call self%pd%map%import(self%p)
-      ! a closed (stick or slip) element conducts with a0 alone: its normal
-      ! jump is the stabilization's allowance, not an opening
-      call self%ff%set_apertures(self%edges, merge(self%jump(1, :), 0.0_rp, self%state == state_open))
+      call self%ff%set_apertures(self%edges, self%jump(1, :), self%state == state_open)
     end if
   end subroutine take_solution
 
@@ -991,7 +993,7 @@ contains
     real(rp), intent(in) :: tol                    !< relative tolerance of the checks
     integer :: f
     type(parallel_comm_t) :: comm
-    real(rp) :: t_ref, g_ref, tau, dg(2)
+    real(rp) :: t_ref, g_ref, tau, dg(2), excess
     real(rp), allocatable :: st(:)
     integer(ip) :: e, nown
     integer :: new
@@ -1010,20 +1012,25 @@ contains
     if (.not. allocated(self%held)) allocate(self%held(size(self%faults)), self%held_open(size(self%faults)))
     self%held = 0
     self%held_open = 0
+    self%held_excess = 0.0_rp
     do e = 1, nown
       new = self%state(e)
       tau = max(self%coh(e) - self%fric(e) * self%trac(1, e), 0.0_rp)
       dg = self%jump(2:3, e) - self%jump_step(2:3, e)
+      excess = 0.0_rp
       select case (self%state(e))
       case (state_stick)
         if (self%trac(1, e) > tol * t_ref) then
           new = state_open
+          excess = self%trac(1, e) / max(t_ref, tiny(1.0_rp))
         else if (norm2(self%trac(2:3, e)) > tau + tol * t_ref) then
           new = state_slip
+          excess = (norm2(self%trac(2:3, e)) - tau) / max(t_ref, tiny(1.0_rp))
         end if
       case (state_slip)
         if (self%trac(1, e) > tol * t_ref) then
           new = state_open
+          excess = self%trac(1, e) / max(t_ref, tiny(1.0_rp))
         else if (norm2(self%trac(2:3, e) + self%area(e) / self%s(e) * dg) < tau - tol * t_ref .or. &
                  dot_product(self%trac(2:3, e), self%area(e) / self%s(e) * dg) < &
                  -tol * t_ref * norm2(self%trac(2:3, e))) then
@@ -1036,9 +1043,13 @@ contains
           ! increment c |dg| far above 2 tau, with no status change, for 30
           ! iterations.)
           new = state_stick
+          excess = max(tau - norm2(self%trac(2:3, e) + self%area(e) / self%s(e) * dg), &
+                       -dot_product(self%trac(2:3, e), self%area(e) / self%s(e) * dg) / &
+                       max(norm2(self%trac(2:3, e)), tiny(1.0_rp))) / max(t_ref, tiny(1.0_rp))
         end if
       case (state_open)
         if (self%jump(1, e) < -tol * g_ref) new = state_stick
+        excess = -self%jump(1, e) / g_ref
       end select
       ! an element that changed max_flips times in this step sits on the
       ! friction limit (stick <-> slip) or at the opening (open <-> closed:
@@ -1053,6 +1064,7 @@ contains
           else
             self%held(self%fault(e)) = self%held(self%fault(e)) + 1
           end if
+          self%held_excess = max(self%held_excess, excess)
           new = self%state(e)
         else
           self%flips(e) = self%flips(e) + 1
@@ -1063,6 +1075,7 @@ contains
       self%state(e) = new
     end do
     changed = comm%sum(changed)
+    self%held_excess = comm%max(self%held_excess)
     do f = 1, size(self%held)
       self%held(f) = comm%sum(self%held(f))
       self%held_open(f) = comm%sum(self%held_open(f))

@@ -527,7 +527,7 @@ contains
     type(logger_t), intent(inout) :: log
     logical, intent(out) :: converged
     character(len=*), intent(out) :: why
-    real(rp), parameter :: ref_floor = 1.0e-4_rp, noise_ulps = 16.0_rp
+    real(rp), parameter :: ref_floor = 1.0e-4_rp, noise_ulps = 16.0_rp, hold_tol = 1.0e-3_rp
     character(len=8), parameter :: names(3) = [character(len=8) :: 'force', 'traction', 'volume']
     character(len=3), parameter :: units(3) = [character(len=3) :: 'N', 'Pa', 'm3']
     real(rp) :: res(3), ref(3), tol(3), noise(3)
@@ -553,6 +553,17 @@ contains
     self%residual_ratio = maxval(res(1:nf) / max(tol(1:nf), tiny(1.0_rp)))
     converged = all(ok(1:nf)) .and. self%changes == 0
     if (self%changes > 0) why = trim(why)//', '//itoa(int(self%changes))//' status change(s) in the last update'
+    ! an element held in its status after max_flips changes is accepted
+    ! only where it sits on its limit: violated by at most hold_tol (a
+    ! traction over the largest on the faults, an overlap over the largest
+    ! jump). Beyond, the held status is wrong, not degenerate: the answer
+    ! would break the contact conditions, so the step does not converge.
+    if (self%phys%held_excess > hold_tol) then
+      converged = .false.
+      write(what, '(es9.2)') self%phys%held_excess
+      why = trim(why)//', an element held in its status violates it by '//trim(adjustl(what))// &
+            ' (relative; at most '//trim(rtoa(hold_tol))//')'
+    end if
     ! with the fluid, after an inexact (Krylov) solve, the residual does not
     ! bound the error of the fractures' pressure where a small storage
     ! holds it, nor of the opening it drives: the last update of u and p,
@@ -639,6 +650,8 @@ contains
         'were held in it (open <-> closed: they sit at the opening, t_N and g_N zero within &contact '// &
         'status_tol)')
     end do
+    if (any(self%phys%held > 0) .or. any(self%phys%held_open > 0)) call log%detail('  held elements: largest '// &
+      'violation of the held status '//trim(rtoa(self%phys%held_excess))//' (relative)')
   end subroutine warn_held
 
   !> The block vector (displacements and tractions) and the statuses; the

@@ -77,7 +77,7 @@ program test_fracture_flow
 
   ! ---- the cubic law ----------------------------------------------------------------------------
   call flow%init(dm, edges, mu, a0)
-  call flow%set_apertures(edges, spread(a - a0, 1, dm%n_ifaces))
+  call flow%set_apertures(edges, spread(a - a0, 1, dm%n_ifaces), spread(.true., 1, dm%n_ifaces))
   call suite%assert_true(all(abs(flow%aperture - a) < 1.0e-18_rp) .and. all(flow%da_dg == 1.0_rp), &
                          'aperture: open, a = g_N + a0')
   allocate(yc(dm%n_ifaces), zc(dm%n_ifaces), p(dm%n_ifaces))
@@ -156,9 +156,28 @@ program test_fracture_flow
   call suite%assert_true(.not. comm%any_true(.not. ok), 'end rows of T p = the flux through their one edge')
 
   ! ---- the aperture law and dT/da ---------------------------------------------------------------
-  call flow%set_apertures(edges, spread(-1.0e-3_rp, 1, dm%n_ifaces))
+  call flow%set_apertures(edges, spread(1.0e-3_rp, 1, dm%n_ifaces), spread(.false., 1, dm%n_ifaces))
   call suite%assert_true(all(abs(flow%aperture - a0) < 1.0e-20_rp) .and. all(flow%da_dg == 0.0_rp), &
-                         'aperture: closed, a = a0 (the residual aperture), da/dg_N = 0')
+                         'aperture: closed (whatever its jump), a = a0 (the residual aperture), da/dg_N = 0')
+  ! an open element below g_N = 0: a0 exp(g_N / a0), continuous in value
+  ! and slope at 0, its derivative the central difference's
+  call flow%set_apertures(edges, spread(-0.5_rp * a0, 1, dm%n_ifaces), spread(.true., 1, dm%n_ifaces))
+  call suite%assert_true(all(abs(flow%aperture - a0 * exp(-0.5_rp)) < 1.0e-15_rp * a0) .and. &
+                         all(abs(flow%da_dg - exp(-0.5_rp)) < 1.0e-15_rp), &
+                         'aperture: open with g_N = -a0/2, a = a0 exp(g_N/a0), da/dg_N = exp(g_N/a0)')
+  block
+    real(rp), allocatable :: am(:), ap(:), dm_(:), dp_(:)
+    call flow%set_apertures(edges, spread(-1.0e-9_rp * a0, 1, dm%n_ifaces), spread(.true., 1, dm%n_ifaces))
+    am = flow%aperture
+    dm_ = flow%da_dg
+    call flow%set_apertures(edges, spread(1.0e-9_rp * a0, 1, dm%n_ifaces), spread(.true., 1, dm%n_ifaces))
+    ap = flow%aperture
+    dp_ = flow%da_dg
+    call suite%assert_true(.not. comm%any_true(.not. (all(abs(ap - am) <= 3.0e-9_rp * a0) .and. &
+                           all(abs(dp_ - dm_) <= 1.0e-8_rp) .and. &
+                           all(abs((ap - am) / (2.0e-9_rp * a0) - 1.0_rp) <= 1.0e-6_rp))), &
+                           'aperture: open, value and slope continuous at g_N = 0')
+  end block
   call edge_transmissibility(0.3_rp, 0.1_rp, 0.2_rp, 1.0e-4_rp, 3.0e-4_rp, mu, t, dt)
   ok = .true.
   do e = 1, 2
