@@ -12,7 +12,7 @@
 !> threshold of the displacement block's BoomerAMG (K; S* of contact and
 !> fracture flow) is at least this; the log says when it applies. Scalar
 !> blocks keep their own. On such a slab S*'s BoomerAMG also takes at least
-!> 3 smoothing sweeps (contact_simulation.f90; a larger num_sweeps stays).
+!> 3 smoothing sweeps (coupled_simulation.f90; a larger num_sweeps stays).
 module amg_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t

@@ -83,7 +83,7 @@ contains
   !> The shared groups (with pressure and flux conditions), &biot and
   !> &source; the linear solver must suit a non-symmetric block system.
   subroutine read_deck(self, d, mcfg, log, status)
-    class(biot_simulation_t), intent(inout) :: self
+    class(biot_simulation_t), intent(inout), target :: self
     type(deck_t), intent(in) :: d
     type(mesh_config_t), intent(in) :: mcfg
     type(logger_t), intent(inout) :: log

@@ -6,7 +6,7 @@
 !>              the explicit Schur complement S = J_tt - C2 diag(K)^-1 C1,
 !>              preconditioned by BoomerAMG or Jacobi of -S;
 !>   reordered  (t first)  LDU of A* = [-H~ C2; C1 K] with H~ a regular
-!>              diagonal that dominates H_t (contact%ht_diagonal): S_1 = -H~
+!>              diagonal that dominates H_t (interface_contact%ht_diagonal): S_1 = -H~
 !>              (exact), S_2 = BoomerAMG(S*), S* = K + C1 H~^-1 C2, a
 !>              stiffness-like matrix on which elasticity AMG works; the
 !>              factors are implicit (C2 and C1 times S_1^-1), so A*^-1 is
@@ -84,16 +84,33 @@ module contact_precon
   use inner_cg_precon, only: inner_cg_precon_t
   use boomeramg_precon, only: boomeramg_precon_t
   use block_precon, only: block_precon_t
-  use block_matrix, only: block_columns_t
   use subspace_precon, only: subspace_precon_t
   use dist_mesh, only: dist_mesh_t
-  use contact, only: contact_t, state_stick, state_open
+  use block_matrix, only: block_matrix_t, block_columns_t
+  use physics_component, only: physics_component_t, coupling_t
+  use mechanics_component, only: mechanics_component_t
+  use interface_contact, only: interface_contact_t, state_stick, state_open
+  use fracture_flow_component, only: fracture_flow_component_t
   use contact_config, only: contact_config_t
   use linear_system, only: linear_system_t
   implicit none
   private
 
   public :: contact_precon_t
+
+  !> The blocks and components the preconditioner works on: the mechanics
+  !> (u), the interface contact (t) and, when the composition has one, the
+  !> fracture flow (p).
+  type :: contact_view_t
+    type(coupling_t), pointer :: ctx => null()
+    type(block_matrix_t), pointer :: sys => null()
+    integer :: bu = 0, bt = 0, bp = 0
+    logical :: flow = .false.
+    real(rp) :: dt = 1.0_rp                       !< the fluid's time step (1 without the fluid)
+    type(mechanics_component_t), pointer :: mc => null()
+    type(interface_contact_t), pointer :: ic => null()
+    type(fracture_flow_component_t), pointer :: fc => null()
+  end type contact_view_t
 
   type :: contact_precon_t
     type(block_precon_t) :: bp
@@ -129,11 +146,12 @@ module contact_precon
 contains
 
   !> Set up (first call) or refresh (later calls: the Schur part) for the
-  !> current Jacobian of phys. amg: elasticity settings (for K and S*).
-  !> Collective.
-  subroutine setup(self, phys, mesh, ccfg, amg, status, pressure_precon)
+  !> current Jacobian of the composition of ctx (mechanics, interface
+  !> contact and maybe fracture flow). amg: elasticity settings (for K and
+  !> S*). Collective.
+  subroutine setup(self, ctx, mesh, ccfg, amg, status, pressure_precon)
     class(contact_precon_t), intent(inout), target :: self
-    type(contact_t), intent(inout), target :: phys
+    type(coupling_t), intent(inout), target :: ctx
     type(dist_mesh_t), intent(in) :: mesh
     type(contact_config_t), intent(in) :: ccfg
     type(amg_params_t), intent(in) :: amg
@@ -143,6 +161,8 @@ contains
     type(precon_params_t) :: params
     real(rp) :: t0, t1
     real(rp), allocatable :: h(:)
+    type(contact_view_t) :: phys
+    phys = view_of(ctx)
     t0 = wall_time()
     self%t_k = 0.0_rp
     self%t_smat = 0.0_rp
@@ -184,7 +204,7 @@ contains
       ! fluid, the step size is the same): the Jacobian is the same, keep it.
       ! (Kept through slipping iterations too, it cost more solve time than
       ! it saved set-up: 421 iterations against 90 on the nine fractures.)
-      if (.not. mesh%comm%any_true(any(phys%state(1:mesh%iface_map%n_owned) /= state_stick) .or. &
+      if (.not. mesh%comm%any_true(any(phys%ic%state(1:mesh%iface_map%n_owned) /= state_stick) .or. &
                                    any(self%built_state /= state_stick))) then
         self%reused = self%reused + 1
         self%t_setup = wall_time() - t0
@@ -206,7 +226,7 @@ contains
         self%t_sub = wall_time() - t1
       end if
     end if
-    if (status%ok()) self%built_state = phys%state(1:mesh%iface_map%n_owned)
+    if (status%ok()) self%built_state = phys%ic%state(1:mesh%iface_map%n_owned)
     self%built_dt = phys%dt
     self%t_setup = wall_time() - t0
   end subroutine setup
@@ -214,7 +234,7 @@ contains
   !> -S = -J_tt + C2 diag(K)^-1 C1 and its preconditioner, negated into S_2.
   subroutine classical_schur(self, phys, ccfg, amg, status)
     type(contact_precon_t), intent(inout) :: self
-    type(contact_t), intent(inout), target :: phys
+    type(contact_view_t), intent(in) :: phys
     type(contact_config_t), intent(in) :: ccfg
     type(amg_params_t), intent(in) :: amg
     type(error_status_t), intent(inout) :: status
@@ -228,7 +248,7 @@ contains
     call gcsr_multiply(gc2, self%gc1, prod)
     call gcsr_add(-1.0_rp, gtt, 1.0_rp, prod, negs)
     call self%s%free()
-    call to_csr(negs, phys%t%map, self%s)
+    call to_csr(negs, phys%ic%t%map, self%s)
     self%nnz_schur = self%s%global_nnz()
     ! -S is a scalar (one unknown per row) operator
     params%amg = amg%scalar()
@@ -250,7 +270,7 @@ contains
   !> peak memory is then one S* with its sum's operands, not two S*.
   subroutine reordered_schur(self, phys, mesh, ccfg, amg, h, status)
     type(contact_precon_t), intent(inout), target :: self
-    type(contact_t), intent(inout), target :: phys
+    type(contact_view_t), intent(in) :: phys
     type(dist_mesh_t), intent(in) :: mesh
     type(contact_config_t), intent(in) :: ccfg
     type(amg_params_t), intent(in) :: amg
@@ -265,8 +285,8 @@ contains
     integer, parameter :: inner_max_iter = 500
     real(rp) :: t0
     t0 = wall_time()
-    allocate(h(phys%t%n_owned()))
-    call phys%ht_diagonal(mesh, ccfg%aug_scale, ccfg%block == 'reordered', h)
+    allocate(h(phys%ic%t%n_owned()))
+    call phys%ic%ht_diagonal(phys%ctx, ccfg%aug_scale, ccfg%block == 'reordered', h)
     call put_diagonal(self%bp%s(phys%bt)%p, -h)
     call from_csr(phys%sys%a(phys%bt, phys%bu), gc2)
     call divide_rows(gc2, h)
@@ -296,16 +316,16 @@ contains
     if (self%p_eliminated) then
       call gcsr_add(1.0_rp, sum1, -1.0_rp, corr, sstar)
       call sum1%free()
-      call to_csr(sstar, phys%mech%u%map, self%s)
+      call to_csr(sstar, phys%mc%mech%u%map, self%s)
       call sstar%free()
     else
-      call to_csr(sum1, phys%mech%u%map, self%s)
+      call to_csr(sum1, phys%mc%mech%u%map, self%s)
       call sum1%free()
     end if
     self%nnz_schur = self%s%global_nnz()
     params%amg = amg
     ! S* has K's near-null space: the rigid-body modes, where asked (&amg)
-    if (amg%interp_vec_variant > 0) params%modes = phys%mech%rigid_body_modes(mesh)
+    if (amg%interp_vec_variant > 0) params%modes = phys%mc%mech%rigid_body_modes(mesh)
     self%t_smat = wall_time() - t0
     call make_and_setup('boomeramg', p, self%s, params, status)
     if (.not. status%ok()) return
@@ -347,7 +367,7 @@ contains
   !> them on every rank. Collective.
   logical function refreshed(self, phys, mesh, prod, corr)
     type(contact_precon_t), intent(inout) :: self
-    type(contact_t), intent(in) :: phys
+    type(contact_view_t), intent(in) :: phys
     type(dist_mesh_t), intent(in) :: mesh
     type(global_csr_t), intent(in) :: prod, corr
     logical :: fits
@@ -376,7 +396,7 @@ contains
   !> counts but not their growth.) Collective.
   subroutine element_subspace(self, phys, mesh, amg, status)
     type(contact_precon_t), intent(inout), target :: self
-    type(contact_t), intent(inout), target :: phys
+    type(contact_view_t), intent(in) :: phys
     type(dist_mesh_t), intent(in) :: mesh
     type(amg_params_t), intent(in) :: amg
     type(error_status_t), intent(inout) :: status
@@ -390,7 +410,7 @@ contains
     call self%lsub%free()
     self%lsub = phys%sys%a(phys%bp, phys%bp)
     nullify(self%lsub%owned_col_map)
-    associate (jtt => phys%sys%a(phys%bt, phys%bt), l => self%lsub, st => phys%state)
+    associate (jtt => phys%sys%a(phys%bt, phys%bt), l => self%lsub, st => phys%ic%state)
       do e = 1, l%n_rows
         if (st(e) == state_open) cycle
         do k = l%row_ptr(e), l%row_ptr(e + 1) - 1
@@ -439,7 +459,7 @@ contains
   !> slipping, on the reduced nine-fracture case.)
   subroutine pressure_correction(self, phys, corr)
     type(contact_precon_t), intent(inout) :: self
-    type(contact_t), intent(inout), target :: phys
+    type(contact_view_t), intent(in) :: phys
     type(global_csr_t), intent(out) :: corr
     type(global_csr_t) :: gpu
     real(rp), allocatable :: dp(:)
@@ -485,7 +505,7 @@ contains
   !> its preconditioner in S_3. h: H~ of the owned t rows.
   subroutine pressure_schur(self, phys, h, amg, choice, status)
     type(contact_precon_t), intent(inout), target :: self
-    type(contact_t), intent(inout), target :: phys
+    type(contact_view_t), intent(in) :: phys
     real(rp), intent(in) :: h(:)
     type(amg_params_t), intent(in) :: amg
     character(len=*), intent(in) :: choice
@@ -498,7 +518,7 @@ contains
     call from_csr(ftp, gftp)
     call gcsr_multiply(self%gc1, gftp, prod)
     call gcsr_add(1.0_rp, self%gup, 1.0_rp, prod, gbup)
-    call to_csr(gbup, phys%mech%u%map, bup)
+    call to_csr(gbup, phys%mc%mech%u%map, bup)
     call self%bp%set_explicit(phys%bt, phys%bp, 1.0_rp, ftp)
     gup_d = gbup
     call scale_rows_by_diagonal(self%s, gup_d)
@@ -508,7 +528,7 @@ contains
     call gcsr_add(1.0_rp, gpp, -1.0_rp, prod, sp)
     call self%bp%set_implicit(phys%bu, phys%bp, phys%bu, coupling=bup)
     call self%sp%free()
-    call to_csr(sp, phys%pd%map, self%sp)
+    call to_csr(sp, phys%fc%pd%map, self%sp)
     self%nnz_pressure = self%sp%global_nnz()
     params%amg = amg%scalar()
     call make_and_setup(choice, p, self%sp, params, status)
@@ -521,7 +541,7 @@ contains
   !> of local element e, whose pressure has local index e) divided by the
   !> row's H~, plus 1 where the row is its element's normal component.
   subroutine traction_pressure_factor(phys, h, f)
-    type(contact_t), intent(inout), target :: phys
+    type(contact_view_t), intent(in) :: phys
     real(rp), intent(in) :: h(:)
     type(csr_matrix_t), intent(inout) :: f
     integer(ip), allocatable :: ptr(:), col(:)
@@ -559,7 +579,7 @@ contains
         end if
         ptr(i + 1) = n + 1
       end do
-      call f%init(phys%t%map, phys%pd%map, ptr, col(1:n))
+      call f%init(phys%ic%t%map, phys%fc%pd%map, ptr, col(1:n))
       f%val = val(1:n)
     end associate
   end subroutine traction_pressure_factor
@@ -635,4 +655,35 @@ contains
     if (allocated(self%built_state)) deallocate(self%built_state)
     self%reused = 0
   end subroutine free
+
+  !> The view of ctx's composition: its components and blocks.
+  function view_of(ctx) result(v)
+    type(coupling_t), intent(in), target :: ctx
+    type(contact_view_t) :: v
+    class(physics_component_t), pointer :: c
+    v%ctx => ctx
+    v%sys => ctx%sys
+    v%bu = ctx%block('u')
+    v%bt = ctx%block('t')
+    v%bp = ctx%block('p')
+    c => ctx%find('mechanics')
+    select type (c)
+    type is (mechanics_component_t)
+      v%mc => c
+    end select
+    c => ctx%find('contact')
+    select type (c)
+    type is (interface_contact_t)
+      v%ic => c
+    end select
+    c => ctx%find('fracture_flow')
+    if (associated(c)) then
+      select type (c)
+      type is (fracture_flow_component_t)
+        v%fc => c
+        v%flow = .true.
+        v%dt = c%dt
+      end select
+    end if
+  end function view_of
 end module contact_precon

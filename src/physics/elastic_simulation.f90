@@ -70,7 +70,7 @@ contains
 
   !> &material, &boundary, &solver, &amg, &afsai (the shared groups).
   subroutine read_deck(self, d, mcfg, log, status)
-    class(elastic_simulation_t), intent(inout) :: self
+    class(elastic_simulation_t), intent(inout), target :: self
     type(deck_t), intent(in) :: d
     type(mesh_config_t), intent(in) :: mcfg
     type(logger_t), intent(inout) :: log

@@ -155,7 +155,7 @@ module simulation
     !> same on every rank.
     subroutine read_deck_iface(self, d, mcfg, log, status)
       import :: simulation_t, deck_t, mesh_config_t, logger_t, error_status_t
-      class(simulation_t), intent(inout) :: self
+      class(simulation_t), intent(inout), target :: self
       type(deck_t), intent(in) :: d
       type(mesh_config_t), intent(in) :: mcfg
       type(logger_t), intent(inout) :: log

@@ -1,4 +1,4 @@
-!> The contact active-set update (contact_t%update_states, begin_step) on a
+!> The contact active-set update (interface_contact_t%update_states, begin_step) on a
 !> box with two faults, the tractions and jumps set by hand (no solve):
 !>  - every transition at a margin of twice the tolerance beyond its limit
 !>    (stick -> slip, stick -> open even above the friction limit, slip ->
@@ -26,12 +26,13 @@ program test_contact_states
   use logger, only: logger_t
   use deck, only: deck_t
   use mesh_config, only: mesh_config_t
-  use fault_config, only: fault_config_t, read_faults
-  use material_config, only: material_config_t, read_materials
-  use boundary_config, only: boundary_config_t, read_boundaries
+  use fault_config, only: fault_config_t
   use mesh_builder, only: build_mesh
   use dist_mesh, only: dist_mesh_t
-  use contact, only: contact_t, state_stick, state_slip, state_open, state_names, max_flips
+  use simulation, only: simulation_t
+  use simulation_factory, only: make_simulation
+  use coupled_simulation, only: coupled_simulation_t
+  use interface_contact, only: interface_contact_t, state_stick, state_slip, state_open, state_names, max_flips
   use strings, only: itoa
   use assertions, only: test_suite_t
   use deck_files, only: write_lines
@@ -72,9 +73,9 @@ program test_contact_states
   type(error_status_t) :: st
   type(dist_mesh_t) :: dm
   type(fault_config_t), allocatable :: faults(:)
-  type(material_config_t), allocatable :: mats(:)
-  type(boundary_config_t), allocatable :: bcs(:)
-  type(contact_t) :: ct
+  class(simulation_t), allocatable, target :: sim
+  type(coupled_simulation_t), pointer :: cs => null()
+  type(interface_contact_t), pointer :: ct => null()
   character(len=64) :: tmp_deck
   integer, allocatable :: how(:), want(:), role(:)
   logical, allocatable :: want_fresh(:)
@@ -97,7 +98,7 @@ program test_contact_states
     "&material region = 'domain', young = 1.0e10, poisson = 0.25 /", &
     "&boundary set = 'zmin', type = 'displacement', ux = 0.0, uy = 0.0, uz = 0.0 /"])
   call setup(st)
-  call suite%assert_true(st%ok(), 'mesh and contact_t set up: '//trim(st%msg))
+  call suite%assert_true(st%ok(), 'mesh and the contact composition set up: '//trim(st%msg))
   if (.not. st%ok()) call suite%finish()
   nown = dm%iface_map%n_owned
   call suite%assert_equal_int(int(dm%iface_map%n_global), 32, '32 interface elements on two faults')
@@ -134,14 +135,14 @@ program test_contact_states
 
   ! ---- the cap: original ids 2, 5, 8, ... cycle stick <-> slip, 3, 6, 9, ... open <-> stick, 1, 4,
   ! ---- 7, ... stay open and wide (g_ref); the fifth update is held, begin_step frees the sixth
-  call ct%begin_step(1.0_rp)
+  call ct%begin_step(cs%ctx)
   do e = 1, dm%n_ifaces
     role(e) = int(mod(dm%iface_orig(e) - 1, 3_gp))
     ct%state(e) = role_start(role(e))
   end do
   want = ct%state
   do k = 1, max_flips + 2
-    if (k == max_flips + 2) call ct%begin_step(1.0_rp)
+    if (k == max_flips + 2) call ct%begin_step(cs%ctx)
     ! drive every cycling element to its other status
     do e = 1, dm%n_ifaces
       select case (role(e))
@@ -182,7 +183,7 @@ program test_contact_states
   ! within the tolerance (t_N = 0.9 tol t_ref, t_ref from one element at
   ! -t0) and no shear: tau = -tan(phi) t_N would be -1.56 tol t_ref, below
   ! |t_T| = 0 by more than the tolerance, and the elements went to slip
-  call ct%begin_step(1.0_rp)
+  call ct%begin_step(cs%ctx)
   ct%fric = tan(60.0_rp * pi / 180.0_rp)
   ct%coh = 0.0_rp
   ct%state = state_stick
@@ -197,26 +198,40 @@ program test_contact_states
   call suite%assert_true(changed == 0 .and. all(ct%state == state_stick), &
     'no shear, t_N > 0 within the tolerance, friction 60 degrees, no cohesion: stays stick (tau >= 0)')
 
-  call ct%free()
+  call sim%free()
   call dm%free()
   call suite%finish()
 
 contains
 
-  !> Mesh, faults, materials and boundaries from the deck; contact_t (plain
-  !> contact) and its row scales s.
+  !> Mesh, faults, materials and boundaries from the deck; the composition
+  !> 'contact' (mechanics and interface contact) set up and its first step
+  !> begun (K and the row scales s); ct its contact component.
   subroutine setup(st)
     type(error_status_t), intent(out) :: st
     type(deck_t) :: d
     type(mesh_config_t) :: cfg
-    call d%load(comm, tmp_deck, st)
+    integer :: k
+    call make_simulation('contact', sim, st)
+    sim%comm = comm
+    if (st%ok()) call d%load(comm, tmp_deck, st)
     if (st%ok()) call cfg%read(d, log, st)
-    if (st%ok()) call read_faults(d, log, faults, st, cfg%source)
-    if (st%ok()) call read_materials(d, log, mats, st)
-    if (st%ok()) call read_boundaries(d, log, bcs, st)
-    if (st%ok()) call build_mesh(comm, cfg, log, dm, st, faults)
-    if (st%ok()) call ct%init(dm, mats, bcs, faults, .true., .false., st)
-    if (st%ok()) call ct%assemble_stiffness(dm, 1.0_rp)
+    if (st%ok()) call sim%read_deck(d, cfg, log, st)
+    if (st%ok()) call build_mesh(comm, cfg, log, dm, st, sim%faults)
+    if (st%ok()) call sim%setup(dm, log, st)
+    if (st%ok()) call sim%begin_step(1.0_rp, 1.0_rp, st)
+    if (.not. st%ok()) return
+    faults = sim%faults
+    select type (sim)
+    type is (coupled_simulation_t)
+      cs => sim
+      do k = 1, size(sim%slots)
+        select type (c => sim%slots(k)%c)
+        type is (interface_contact_t)
+          ct => c
+        end select
+      end do
+    end select
   end subroutine setup
 
   !> Traction and jump of local element e for kind k (see the header), from
