@@ -128,21 +128,21 @@ contains
       ' of the largest nodal weight; step 0 balances it with the faults bonded')
   end subroutine report_setup
 
-  !> Impose the prescribed displacements at ctx%lf, assemble K and the
-  !> loads at ctx%lf with the histories at ctx%time. (A run that steps in
-  !> load imposes them with the histories' factors of the time set before,
-  !> as contact_t did: the results stay as they were.) Collective.
+  !> Impose the prescribed displacements at ctx%lf and assemble K and the
+  !> loads at ctx%lf, all with the histories at ctx%time. (contact_t took
+  !> the displacements' history factors of the step before in a run that
+  !> steps in load: a &boundary history lagged one step behind its load.)
+  !> Collective.
   subroutine begin_step(self, ctx)
     class(mechanics_component_t), intent(inout), target :: self
     type(coupling_t), intent(inout), target :: ctx
     integer(ip) :: i, u0, u1
-    if (ctx%sim%transient) call self%mech%set_time(ctx%time)
+    call self%mech%set_time(ctx%time)
     do i = 1, self%mech%u%n_local()
       if (self%mech%fixed(i)) self%u(i) = ctx%lf * self%mech%prescribed_value(i)
     end do
     call ctx%range('u', u0, u1)
     ctx%x(u0:u1) = self%u(1:u1-u0+1)
-    call self%mech%set_time(ctx%time)
     call self%mech%assemble_into(ctx%mesh, ctx%lf, ctx%sys%a(ctx%block('u'), ctx%block('u')), self%f_u)
   end subroutine begin_step
 

@@ -180,12 +180,15 @@ def cases(short):
     if not short:
         return list(itertools.product(APERTURES, SIZES, COMPRESSIBILITIES, STEPS, STATES, RANKS))
     # the corners of the parameter box, each state, and the two singular
-    # refusals; one case on 2 ranks
+    # refusals; one case on 2 ranks; the open fracture of a0 1e-5 m in 1 m
+    # elements at dt 1000 s (its cubic-law Newton needs sub-steps of dt/64
+    # at first, which grow back: it failed after 4 cuts before)
     picked = [(1e-5, 1e-3, 1e-14, 1e-3, 'closed', 1), (1e-2, 1.0, 1e-8, 1e3, 'closed', 1),
               (1e-5, 1.0, 1e-11, 1e3, 'closed', 1), (1e-2, 1e-3, 1e-14, 1e-3, 'closed', 1),
               (1e-5, 1e-3, 0.0, 1e-3, 'open', 1), (1e-2, 1.0, 1e-14, 1e3, 'open', 1),
               (1e-3, 1e-2, 1e-14, 1.0, 'open', 1), (1e-4, 1e-1, 1e-8, 1e-3, 'open', 1),
-              (1e-3, 1e-2, 0.0, 1.0, 'closed', 1), (1e-3, 1e-2, 4.5e-10, 1.0, 'closed', 2)]
+              (1e-3, 1e-2, 0.0, 1.0, 'closed', 1), (1e-3, 1e-2, 4.5e-10, 1.0, 'closed', 2),
+              (1e-5, 1.0, 0.0, 1e3, 'open', 1)]
     return picked
 
 

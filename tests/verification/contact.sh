@@ -244,5 +244,30 @@ if run block_mumps_bubble 2 && run block_mumps1_bubble 1; then
     "space bubble: augmented with S* by 2 PCG steps" "&contact\n  space = 'bubble', schur_solve = 'pcg'\n/\n"
 fi
 
+# a displacement with a load history in load steps: the top's uz at load
+# factor t is -1e-4 m x t x f(t), f from the table (f(0.5) = 1, f(1) = 3);
+# the prescribed values once lagged a step behind (f of the step before)
+printf '0.0 0.0\n0.5 1.0\n1.0 3.0\n' > "$out/ramp.tab"
+deck stick_history tests/decks/contact_stick.nml \
+  -e "/set = 'zmax'/,/^\//s#type = 'traction'#type = 'displacement'#" \
+  -e "s#traction = 0.0, 0.0, -1.0e7#uz = -1.0e-4, history = 'ramp.tab'#"
+printf "&time\n  n_steps = 2\n/\n" >> "$out/stick_history.nml"
+if run stick_history 2; then
+  if r=$($PY - "$out/stick_history" <<'PYEOF'
+import sys, h5py, numpy as np
+base = sys.argv[1]
+z = h5py.File(base + '_mesh.h5', 'r')['coords'][:, 2]
+top = np.abs(z - z.max()) < 1e-12
+worst = 0.0
+for step, want in ((1, -5.0e-5), (2, -3.0e-4)):   # load step n: output file n - 1
+    uz = h5py.File('%s_%04d.h5' % (base, step - 1), 'r')['displacement'][:, 2][top]
+    worst = max(worst, np.max(np.abs(uz - want)) / abs(want))
+print('%.1e' % worst)
+sys.exit(0 if worst < 1e-12 else 1)
+PYEOF
+  ); then ok "load history of a prescribed displacement in load steps: top uz = -1e-4 t f(t) at both steps (rel. $r)"
+  else ko "load history of a prescribed displacement in load steps: top uz off by $r (relative)"; fi
+fi
+
 echo "suite contact: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
