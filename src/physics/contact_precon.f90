@@ -88,9 +88,9 @@ module contact_precon
   use dist_mesh, only: dist_mesh_t
   use block_matrix, only: block_matrix_t, block_columns_t
   use physics_component, only: physics_component_t, coupling_t
-  use mechanics_component, only: mechanics_component_t
-  use interface_contact, only: interface_contact_t, state_stick, state_open
-  use fracture_flow_component, only: fracture_flow_component_t
+  use mechanics_component, only: mechanics_component_t, mechanics_of
+  use interface_contact, only: interface_contact_t, interface_contact_of, state_stick, state_open
+  use fracture_flow_component, only: fracture_flow_component_t, fracture_flow_of
   use contact_config, only: contact_config_t
   use linear_system, only: linear_system_t
   implicit none
@@ -660,30 +660,17 @@ contains
   function view_of(ctx) result(v)
     type(coupling_t), intent(in), target :: ctx
     type(contact_view_t) :: v
-    class(physics_component_t), pointer :: c
     v%ctx => ctx
     v%sys => ctx%sys
     v%bu = ctx%block('u')
     v%bt = ctx%block('t')
     v%bp = ctx%block('p')
-    c => ctx%find('mechanics')
-    select type (c)
-    type is (mechanics_component_t)
-      v%mc => c
-    end select
-    c => ctx%find('contact')
-    select type (c)
-    type is (interface_contact_t)
-      v%ic => c
-    end select
-    c => ctx%find('fracture_flow')
-    if (associated(c)) then
-      select type (c)
-      type is (fracture_flow_component_t)
-        v%fc => c
-        v%flow = .true.
-        v%dt = c%dt
-      end select
+    v%mc => mechanics_of(ctx)
+    v%ic => interface_contact_of(ctx)
+    v%fc => fracture_flow_of(ctx)
+    if (associated(v%fc)) then
+      v%flow = .true.
+      v%dt = v%fc%dt
     end if
   end function view_of
 end module contact_precon

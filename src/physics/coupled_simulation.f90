@@ -35,8 +35,8 @@ module coupled_simulation
   use mgr_precon, only: mgr_precon_t, mgr_contact, mgr_flow
   use simulation, only: simulation_t, foreign_len, common_parameter_groups, step_stats_t
   use physics_component, only: physics_component_t, coupling_t, field_len
-  use interface_contact, only: interface_contact_t
-  use fracture_flow_component, only: fracture_flow_component_t
+  use interface_contact, only: interface_contact_t, interface_contact_of
+  use fracture_flow_component, only: fracture_flow_component_t, fracture_flow_of
   implicit none
   private
 
@@ -295,14 +295,7 @@ contains
   function contact_component(self) result(ic)
     type(coupled_simulation_t), intent(in), target :: self
     type(interface_contact_t), pointer :: ic
-    class(physics_component_t), pointer :: c
-    ic => null()
-    c => self%ctx%find('contact')
-    if (.not. associated(c)) return
-    select type (c)
-    type is (interface_contact_t)
-      ic => c
-    end select
+    ic => interface_contact_of(self%ctx)
   end function contact_component
 
   !> The fracture-flow component, null if none: the preconditioner's
@@ -310,14 +303,7 @@ contains
   function flow_component(self) result(fc)
     type(coupled_simulation_t), intent(in), target :: self
     type(fracture_flow_component_t), pointer :: fc
-    class(physics_component_t), pointer :: c
-    fc => null()
-    c => self%ctx%find('fracture_flow')
-    if (.not. associated(c)) return
-    select type (c)
-    type is (fracture_flow_component_t)
-      fc => c
-    end select
+    fc => fracture_flow_of(self%ctx)
   end function flow_component
 
   !> 'unknowns: u N, t M, p K (the components' notes)', then the

@@ -32,12 +32,12 @@ module fracture_flow_component
   use fracture_wells, only: well_links_t
   use simulation, only: foreign_len
   use physics_component, only: physics_component_t, coupling_t, field_len
-  use mechanics_component, only: mechanics_component_t
-  use interface_contact, only: interface_contact_t, state_open, nju
+  use mechanics_component, only: mechanics_component_t, mechanics_of
+  use interface_contact, only: interface_contact_t, interface_contact_of, state_open, nju
   implicit none
   private
 
-  public :: fracture_flow_component_t
+  public :: fracture_flow_component_t, fracture_flow_of
 
   type, extends(physics_component_t) :: fracture_flow_component_t
     type(flow_config_t) :: fcfg                     !< &fracture_flow
@@ -152,17 +152,8 @@ contains
   subroutine contact_of(self, ctx)
     type(fracture_flow_component_t), intent(inout) :: self
     type(coupling_t), intent(in) :: ctx
-    class(physics_component_t), pointer :: c
-    c => ctx%find('contact')
-    select type (c)
-    type is (interface_contact_t)
-      self%ic => c
-    end select
-    c => ctx%find('mechanics')
-    select type (c)
-    type is (mechanics_component_t)
-      self%mc => c
-    end select
+    self%ic => interface_contact_of(ctx)
+    self%mc => mechanics_of(ctx)
   end subroutine contact_of
 
   subroutine groups(self, list)
@@ -583,4 +574,17 @@ contains
     if (allocated(self%mass_mag)) deallocate(self%mass_mag, self%mass_noise)
     nullify(self%mc, self%ic)
   end subroutine free
+  !> The fracture-flow component of the composition ctx, null if it has none.
+  function fracture_flow_of(ctx) result(p)
+    type(coupling_t), intent(in) :: ctx
+    type(fracture_flow_component_t), pointer :: p
+    class(physics_component_t), pointer :: c
+    p => null()
+    c => ctx%find('fracture_flow')
+    if (.not. associated(c)) return
+    select type (c)
+    type is (fracture_flow_component_t)
+      p => c
+    end select
+  end function fracture_flow_of
 end module fracture_flow_component

@@ -69,11 +69,11 @@ module interface_contact
   use probe_fields, only: probe_fields_t
   use dist_vector, only: pnorm2
   use physics_component, only: physics_component_t, coupling_t, field_len, update_piece
-  use mechanics_component, only: mechanics_component_t
+  use mechanics_component, only: mechanics_component_t, mechanics_of
   implicit none
   private
 
-  public :: interface_contact_t, state_stick, state_slip, state_open, state_names, max_flips, nju, check_split
+  public :: interface_contact_of, interface_contact_t, state_stick, state_slip, state_open, state_names, max_flips, nju, check_split
 
   integer, parameter :: state_stick = 1, state_slip = 2, state_open = 3
   character(len=5), parameter :: state_names(3) = ['stick', 'slip ', 'open ']
@@ -206,7 +206,7 @@ contains
     type(coupling_t), intent(inout) :: ctx
     type(deck_t), intent(in) :: d
     type(error_status_t), intent(inout) :: status
-    class(physics_component_t), pointer :: c
+    type(mechanics_component_t), pointer :: mc
     associate (sim => ctx%sim)
       ! the in-situ and pressure-change loads are nodal: the bubbles' share of
       ! them is not made yet
@@ -215,11 +215,8 @@ contains
           "(use space = 'stabilized')")
         return
       end if
-      c => ctx%find('mechanics')
-      select type (c)
-      type is (mechanics_component_t)
-        c%bubble = self%ccfg%space == 'bubble'
-      end select
+      mc => mechanics_of(ctx)
+      mc%bubble = self%ccfg%space == 'bubble'
       sim%max_newton = self%ccfg%max_newton
       sim%max_cuts = self%ccfg%max_cuts
       sim%residual_test = .true.
@@ -258,7 +255,6 @@ contains
     type(coupling_t), intent(inout), target :: ctx
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
-    class(physics_component_t), pointer :: c
     integer(ip) :: e, n, f
     call check_split(ctx%mesh, status)
     if (.not. status%ok()) return
@@ -270,11 +266,7 @@ contains
         itoa(min_block_interfaces)//' for the block preconditioners: the direct solver MUMPS is used instead of '// &
         'FGMRES')
     end if
-    c => ctx%find('mechanics')
-    select type (c)
-    type is (mechanics_component_t)
-      self%mc => c
-    end select
+    self%mc => mechanics_of(ctx)
     associate (mesh => ctx%mesh)
       self%stabilized = self%ccfg%stabilization == 'algebraic'
       self%faults = ctx%sim%faults
@@ -1431,4 +1423,17 @@ contains
       '): such an element can neither open nor slip and its tractions are undetermined; make the fault at '// &
       'least two elements across (&fault lower, upper) or refine the mesh')
   end subroutine check_split
+  !> The interface contact component of the composition ctx, null if it has none.
+  function interface_contact_of(ctx) result(p)
+    type(coupling_t), intent(in) :: ctx
+    type(interface_contact_t), pointer :: p
+    class(physics_component_t), pointer :: c
+    p => null()
+    c => ctx%find('contact')
+    if (.not. associated(c)) return
+    select type (c)
+    type is (interface_contact_t)
+      p => c
+    end select
+  end function interface_contact_of
 end module interface_contact

@@ -23,7 +23,7 @@ module mechanics_component
   implicit none
   private
 
-  public :: mechanics_component_t
+  public :: mechanics_component_t, mechanics_of
 
   type, extends(physics_component_t) :: mechanics_component_t
     type(elasticity_t) :: mech
@@ -313,4 +313,17 @@ contains
     call self%bub%free()
     if (allocated(self%u)) deallocate(self%u, self%f_u, self%u_geo)
   end subroutine free
+  !> The mechanics component of the composition ctx, null if it has none.
+  function mechanics_of(ctx) result(p)
+    type(coupling_t), intent(in) :: ctx
+    type(mechanics_component_t), pointer :: p
+    class(physics_component_t), pointer :: c
+    p => null()
+    c => ctx%find('mechanics')
+    if (.not. associated(c)) return
+    select type (c)
+    type is (mechanics_component_t)
+      p => c
+    end select
+  end function mechanics_of
 end module mechanics_component
