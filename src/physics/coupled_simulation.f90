@@ -136,7 +136,9 @@ contains
     type(error_status_t), intent(inout) :: status
     integer :: k
     call link(self)
-    call self%read_common(d, log, status, 'block', flow_conditions=.false., with_faults=.true.)
+    ! the matrix's fluid takes pressure and flux conditions (and no &pressure_change)
+    call self%read_common(d, log, status, 'block', flow_conditions=has_kind(self, 'matrix_flow'), &
+                          with_faults=.true.)
     do k = 1, size(self%slots)
       if (status%ok()) call self%slots(k)%c%read_deck(self%ctx, d, mcfg, log, status)
     end do
@@ -155,14 +157,29 @@ contains
     list = [character(len=foreign_len) :: 'biot', 'source', 'block_fsai', &
             'material%biot_modulus', &
             'material%permeability', 'material%permeability_tensor', 'material%viscosity']
+    ! the matrix's fluid uses them (and refuses &block_fsai, which is biot's)
+    if (has_kind(self, 'matrix_flow')) list = [character(len=foreign_len) :: 'block_fsai']
     list = [list, self%refused]
     do k = 1, size(self%slots)
       call self%slots(k)%c%foreign_inputs(more)
       list = [list, more]
     end do
     ! the Biot coefficient weighs a &pressure_change
-    if (size(self%pcs) == 0) list = [list, [character(len=foreign_len) :: 'material%biot']]
+    if (size(self%pcs) == 0 .and. .not. has_kind(self, 'matrix_flow')) &
+      list = [list, [character(len=foreign_len) :: 'material%biot']]
   end subroutine foreign_inputs
+
+  !> Whether the composition has a component of kind.
+  logical function has_kind(self, kind)
+    type(coupled_simulation_t), intent(in) :: self
+    character(len=*), intent(in) :: kind
+    integer :: k
+    has_kind = .false.
+    if (.not. allocated(self%slots)) return
+    do k = 1, size(self%slots)
+      has_kind = has_kind .or. self%slots(k)%c%kind == kind
+    end do
+  end function has_kind
 
   !> The resolved groups: the shared ones, then the components' in order.
   subroutine parameter_groups(self, groups)

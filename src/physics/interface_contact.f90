@@ -207,6 +207,9 @@ contains
     type(deck_t), intent(in) :: d
     type(error_status_t), intent(inout) :: status
     type(mechanics_component_t), pointer :: mc
+    logical :: matrix
+    ! with the matrix's fluid, a mesh without faults is Biot's problem
+    matrix = associated(ctx%find('matrix_flow'))
     associate (sim => ctx%sim)
       ! the in-situ and pressure-change loads are nodal: the bubbles' share of
       ! them is not made yet
@@ -227,7 +230,7 @@ contains
       else if (sim%solver%method == 'fgmres' .and. sim%solver%precon /= 'block' .and. sim%solver%precon /= 'mgr') then
         call status%set("deck '"//trim(d%path)//"', group &solver, variable precon: the contact system with fgmres "// &
           "needs precon = 'block' (ours, &contact block) or 'mgr' (hypre's)")
-      else if (size(sim%faults) == 0) then
+      else if (size(sim%faults) == 0 .and. .not. matrix) then
         call status%set("deck '"//trim(d%path)//"': physics = 'contact' needs at least one &fault group")
       end if
     end associate
@@ -552,12 +555,14 @@ contains
     if (ctx%initial) self%jump_geo = self%jump
   end subroutine accept_step
 
-  !> The 'fractures' grid beside the mesh, in <prefix>_fractures.xdmf. Collective.
+  !> The 'fractures' grid beside the mesh, in <prefix>_fractures.xdmf
+  !> (none without faults: 'poromechanics_faults' allows that). Collective.
   subroutine open_output(self, ctx, out, status)
     class(interface_contact_t), intent(inout) :: self
     type(coupling_t), intent(in) :: ctx
     type(field_output_t), intent(inout) :: out
     type(error_status_t), intent(inout) :: status
+    if (size(ctx%sim%faults) == 0) return
     call self%fout%init(out, ctx%mesh, status)
     if (status%ok()) self%fractures_xdmf = out%writer%xdmf_path(self%fout%grid)
   end subroutine open_output
@@ -569,6 +574,7 @@ contains
     type(coupling_t), intent(in) :: ctx
     type(field_output_t), intent(inout) :: out
     type(error_status_t), intent(inout) :: status
+    if (size(ctx%sim%faults) == 0) return
     ! the output's status codes count from 0 (state_stick = 1, slip 2, open 3)
     if (status%ok()) call self%fout%write_step(out, ctx%mesh, self%trac, self%jump - self%jump_geo, &
                                                 self%state - 1, self%rot, self%fric, self%coh, status)

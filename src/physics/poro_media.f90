@@ -21,7 +21,7 @@ module poro_media
   use dist_mesh, only: dist_mesh_t
   use quadrature, only: gauss_hex
   use hex_q1, only: hex_gradients, inverse3
-  use hex_rt0, only: rt0_cell_mass, rt0_cell_divergence, rt0_orient
+  use hex_rt0, only: rt0_cell_mass, rt0_cell_divergence, rt0_orient, rt0_values
   use elasticity, only: lame
   use material_config, only: material_config_t
   use boundary_config, only: boundary_config_t
@@ -60,6 +60,7 @@ module poro_media
     procedure :: add_jumps
     procedure :: storage_row
     procedure :: prescribed_flux
+    procedure :: cell_velocity
     procedure :: free_media
   end type poro_media_t
 
@@ -403,6 +404,22 @@ contains
     call element_pattern(mesh%cell_map%n_owned, mesh%face_cells, mesh%face_cells, 1_ip, 1_ip, row_ptr, col)
     call sys%set_pattern(b(3), b(3), pmap, pmap, row_ptr, col)
   end subroutine flow_patterns
+
+  !> Darcy velocity at the centre of each owned cell [m/s] from the fluxes
+  !> q_loc (all local faces, ghosts up to date).
+  subroutine cell_velocity(self, mesh, q_loc, v)
+    class(poro_media_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: q_loc(:)
+    real(rp), intent(out) :: v(:,:)
+    real(rp) :: psi(3, 6), divv(6), det, qf(6)
+    integer(ip) :: c
+    do c = 1, mesh%cell_map%n_owned
+      call rt0_values(mesh%coords(:, mesh%cell_nodes(:, c)), [0.0_rp, 0.0_rp, 0.0_rp], psi, divv, det)
+      qf = q_loc(mesh%cell_faces(:, c)) * real(mesh%cell_face_sign(:, c), rp)
+      v(:, c) = matmul(psi, qf)
+    end do
+  end subroutine cell_velocity
 
   subroutine free_media(self)
     class(poro_media_t), intent(inout) :: self

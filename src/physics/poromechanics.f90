@@ -26,7 +26,6 @@ module poromechanics
   use sparsity, only: element_pattern
   use quadrature, only: gauss_hex
   use hex_q1, only: hex_gradients
-  use hex_rt0, only: rt0_values
   use elasticity, only: elasticity_t
   use poro_media, only: poro_media_t, cell_coupling, cell_darcy, flow_patterns
   use material_config, only: material_config_t
@@ -59,7 +58,6 @@ module poromechanics
     procedure :: assemble
     procedure :: fixed_stress_schur
     procedure :: algebraic_schur
-    procedure :: cell_velocity
     procedure :: free
   end type poromechanics_t
 
@@ -422,21 +420,6 @@ contains
     call s%finalize_assembly()
   end subroutine algebraic_schur
 
-  !> Darcy velocity at the centre of each owned cell [m/s] from the fluxes
-  !> q_loc (all local faces, ghosts up to date).
-  subroutine cell_velocity(self, mesh, q_loc, v)
-    class(poromechanics_t), intent(in) :: self
-    type(dist_mesh_t), intent(in) :: mesh
-    real(rp), intent(in) :: q_loc(:)
-    real(rp), intent(out) :: v(:,:)
-    real(rp) :: psi(3, 6), divv(6), det, qf(6)
-    integer(ip) :: c
-    do c = 1, mesh%cell_map%n_owned
-      call rt0_values(mesh%coords(:, mesh%cell_nodes(:, c)), [0.0_rp, 0.0_rp, 0.0_rp], psi, divv, det)
-      qf = q_loc(mesh%cell_faces(:, c)) * real(mesh%cell_face_sign(:, c), rp)
-      v(:, c) = matmul(psi, qf)
-    end do
-  end subroutine cell_velocity
 
   subroutine free(self)
     class(poromechanics_t), intent(inout) :: self
