@@ -66,7 +66,7 @@ module interface_contact
   use mesh_pieces, only: mesh_pieces_t
   use field_output, only: field_output_t
   use fracture_output, only: fracture_output_t
-  use probe_fields, only: probe_fields_t
+  use probe_fields, only: probe_fields_t, scalar_name_len
   use dist_vector, only: pnorm2
   use physics_component, only: physics_component_t, coupling_t, field_len, update_piece
   use mechanics_component, only: mechanics_component_t, mechanics_of
@@ -594,12 +594,13 @@ contains
     type(coupling_t), intent(in) :: ctx
     type(probe_fields_t), intent(inout) :: pf
     type(error_status_t), intent(inout) :: status
-    real(rp), allocatable :: smax(:), area(:)
+    real(rp), allocatable :: smax(:), area(:), values(:)
+    character(len=scalar_name_len), allocatable :: names(:)
     integer(ip) :: e
     integer :: f, nf
     associate (mesh => ctx%mesh, comm => ctx%sim%comm)
       nf = size(mesh%fault_names)
-      allocate(smax(nf), area(nf), pf%names(2 * nf), pf%values(2 * nf))
+      allocate(smax(nf), area(nf), names(2 * nf), values(2 * nf))
       smax = 0.0_rp
       area = 0.0_rp
       do e = 1, mesh%iface_map%n_owned
@@ -609,12 +610,20 @@ contains
       end do
       call comm%sum_all(area)
       do f = 1, nf
-        pf%names(2*f - 1) = trim(mesh%fault_names(f))//':max_slip [m]'
-        pf%names(2*f) = trim(mesh%fault_names(f))//':slip_area [m2]'
-        pf%values(2*f - 1) = comm%max(smax(f))
-        pf%values(2*f) = area(f)
+        names(2*f - 1) = trim(mesh%fault_names(f))//':max_slip [m]'
+        names(2*f) = trim(mesh%fault_names(f))//':slip_area [m2]'
+        values(2*f - 1) = comm%max(smax(f))
+        values(2*f) = area(f)
       end do
     end associate
+    ! after the scalars of the components before it (the matrix flow's)
+    if (allocated(pf%names)) then
+      pf%names = [pf%names, names]
+      pf%values = [pf%values, values]
+    else
+      call move_alloc(names, pf%names)
+      call move_alloc(values, pf%values)
+    end if
   end subroutine sample
 
   !> The statuses and the largest slip.

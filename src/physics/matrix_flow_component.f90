@@ -711,6 +711,8 @@ contains
       per_fault(ctx%mesh%iface_fault(e)) = per_fault(ctx%mesh%iface_fault(e)) + l(e)
     end do
     call ctx%sim%comm%sum_all(per_fault)
+    if (.not. allocated(pf%names)) allocate(pf%names(0))
+    if (.not. allocated(pf%values)) allocate(pf%values(0))
     do k = 1, size(per_fault)
       pf%names = [pf%names, [character(len=scalar_name_len) :: trim(ctx%mesh%fault_names(k))//':leakoff [m3/s]']]
       pf%values = [pf%values, per_fault(k)]
