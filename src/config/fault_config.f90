@@ -178,7 +178,7 @@ contains
         call d%fail(status, 'fault', k, 'cohesion', 'must not be negative (got '//rtoa(cohesion)//')')
       if (initial_state /= 'stick' .and. initial_state /= 'open') &
         call d%fail(status, 'fault', k, 'initial_state', "must be 'stick' or 'open' (got '"//trim(initial_state)//"')")
-      call check_exchange()
+      call check_exchange(d, k, exchange, exchange_transmissibility, status)
       if (.not. status%ok()) return
       faults(k)%name = name
       faults(k)%normal_axis = normal_axis
@@ -199,26 +199,6 @@ contains
       faults(k)%exchange_transmissibility = exchange_transmissibility
     end do
   contains
-    !> exchange is 'open', 'sealing' or 'barrier'; a barrier needs its
-    !> transmissibility (> 0), which the others refuse.
-    subroutine check_exchange()
-      if (exchange /= 'open' .and. exchange /= 'sealing' .and. exchange /= 'barrier') then
-        call d%fail(status, 'fault', k, 'exchange', "must be 'open', 'sealing' or 'barrier' (got '"// &
-                    trim(exchange)//"')")
-      else if (exchange == 'barrier') then
-        if (exchange_transmissibility == unset_real) then
-          call d%fail(status, 'fault', k, 'exchange_transmissibility', "required with exchange = 'barrier' "// &
-                      '(the flux per area and pressure difference through the barrier, m/(Pa s))')
-        else if (.not. (exchange_transmissibility > 0.0_rp .and. exchange_transmissibility < huge(1.0_rp))) then
-          call d%fail(status, 'fault', k, 'exchange_transmissibility', 'must be positive and finite (got '// &
-                      rtoa(exchange_transmissibility)//')')
-        end if
-      else if (exchange_transmissibility /= unset_real) then
-        call d%fail(status, 'fault', k, 'exchange_transmissibility', "is for exchange = 'barrier' only (got "// &
-                    "exchange = '"//trim(exchange)//"')")
-      end if
-      if (exchange_transmissibility == unset_real) exchange_transmissibility = 0.0_rp
-    end subroutine check_exchange
 
     !> radius and centre of a circular fault (box): radius > 0, dip = 0, the
     !> in-plane components of centre given; without radius, no centre.
@@ -255,6 +235,33 @@ contains
                   "fault's geometry")
     end subroutine gmsh_refuses
   end subroutine read_faults
+
+  !> exchange is 'open', 'sealing' or 'barrier'; a barrier needs its
+  !> transmissibility (> 0), which the others refuse (&fault number k; an
+  !> unset transmissibility becomes 0).
+  subroutine check_exchange(d, k, exchange, exchange_transmissibility, status)
+    type(deck_t), intent(in) :: d
+    integer, intent(in) :: k
+    character(len=*), intent(in) :: exchange
+    real(rp), intent(inout) :: exchange_transmissibility
+    type(error_status_t), intent(inout) :: status
+    if (exchange /= 'open' .and. exchange /= 'sealing' .and. exchange /= 'barrier') then
+      call d%fail(status, 'fault', k, 'exchange', "must be 'open', 'sealing' or 'barrier' (got '"// &
+                  trim(exchange)//"')")
+    else if (exchange == 'barrier') then
+      if (exchange_transmissibility == unset_real) then
+        call d%fail(status, 'fault', k, 'exchange_transmissibility', "required with exchange = 'barrier' "// &
+                    '(the flux per area and pressure difference through the barrier, m/(Pa s))')
+      else if (.not. (exchange_transmissibility > 0.0_rp .and. exchange_transmissibility < huge(1.0_rp))) then
+        call d%fail(status, 'fault', k, 'exchange_transmissibility', 'must be positive and finite (got '// &
+                    rtoa(exchange_transmissibility)//')')
+      end if
+    else if (exchange_transmissibility /= unset_real) then
+      call d%fail(status, 'fault', k, 'exchange_transmissibility', "is for exchange = 'barrier' only (got "// &
+                  "exchange = '"//trim(exchange)//"')")
+    end if
+    if (exchange_transmissibility == unset_real) exchange_transmissibility = 0.0_rp
+  end subroutine check_exchange
 
   !> The resolved &fault group: the geometry only for a box mesh, a
   !> circular fault's radius and centre only when it has them.
