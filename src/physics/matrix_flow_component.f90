@@ -49,7 +49,7 @@ module matrix_flow_component
   implicit none
   private
 
-  public :: matrix_flow_component_t
+  public :: matrix_flow_component_t, matrix_flow_of
 
   !> a fault face's exchange
   integer, parameter :: ex_none = 0, ex_open = 1, ex_barrier = 2, ex_sealing = 3
@@ -121,8 +121,8 @@ contains
     end if
   end function field_size
 
-  !> &biot and &source. The block preconditioner of the contact does not
-  !> know the matrix's fluid yet: MUMPS only.
+  !> &biot and &source; the &solver choices the block preconditioner
+  !> (poro_faults_precon.f90) takes.
   subroutine read_deck(self, ctx, d, mcfg, log, status)
     class(matrix_flow_component_t), intent(inout) :: self
     type(coupling_t), intent(inout) :: ctx
@@ -134,9 +134,16 @@ contains
     call self%bcfg%read(d, log, status)
     if (status%ok()) call read_sources(d, log, self%srcs, status)
     if (.not. status%ok()) return
-    if (ctx%sim%solver%method /= 'mumps') call status%set("deck '"//trim(d%path)//"', group &solver, variable "// &
-      "method: physics = 'poromechanics_faults' has the direct solver only for now (method = 'mumps'): the "// &
-      "block preconditioners do not know the matrix's flux and pressure yet")
+    associate (sv => ctx%sim%solver)
+      if (sv%method /= 'mumps' .and. sv%precon == 'mgr') call status%set("deck '"//trim(d%path)//"', group &solver, "// &
+        "variable precon: physics = 'poromechanics_faults' has the block preconditioner ('block') or method = 'mumps' "// &
+        "(hypre's MGR strategies do not know the matrix's flux and pressure)")
+      if (sv%method /= 'mumps' .and. sv%decoupling == 'explicit' .and. status%ok()) call status%set("deck '"//trim(d%path)// &
+        "', group &solver, variable decoupling: physics = 'poromechanics_faults' has implicit factors only (its "// &
+        "displacement block S* follows the contact's statuses: an explicit K^-1 Q would be rebuilt every iteration)")
+      if (sv%method /= 'mumps' .and. sv%schur == 'explicit' .and. status%ok()) call status%set("deck '"//trim(d%path)// &
+        "', group &solver, variable schur: physics = 'poromechanics_faults' takes 'fixed_stress' or 'algebraic'")
+    end associate
   end subroutine read_deck
 
   !> Its groups and the &fault variables of the exchange: refused where
@@ -757,4 +764,18 @@ contains
     if (allocated(self%mass_mag)) deallocate(self%mass_mag, self%mass_noise)
     nullify(self%mc, self%fc)
   end subroutine free
+
+  !> The matrix flow component of ctx's composition, null if none.
+  function matrix_flow_of(ctx) result(p)
+    type(coupling_t), intent(in) :: ctx
+    type(matrix_flow_component_t), pointer :: p
+    class(physics_component_t), pointer :: c
+    p => null()
+    c => ctx%find('matrix_flow')
+    if (.not. associated(c)) return
+    select type (c)
+    type is (matrix_flow_component_t)
+      p => c
+    end select
+  end function matrix_flow_of
 end module matrix_flow_component
