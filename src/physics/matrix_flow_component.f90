@@ -141,6 +141,9 @@ contains
       if (sv%method /= 'mumps' .and. sv%decoupling == 'explicit' .and. status%ok()) call status%set("deck '"//trim(d%path)// &
         "', group &solver, variable decoupling: physics = 'poromechanics_faults' has implicit factors only (its "// &
         "displacement block S* follows the contact's statuses: an explicit K^-1 Q would be rebuilt every iteration)")
+      if (sv%method /= 'mumps' .and. sv%schur_precon == 'afsai' .and. status%ok()) call status%set("deck '"// &
+        trim(d%path)//"', group &solver, variable schur_precon: physics = 'poromechanics_faults' takes 'boomeramg' "// &
+        "(its pressure Schur complement is not symmetric where the fractures' pressure is: aFSAI needs an SPD matrix)")
       if (sv%method /= 'mumps' .and. sv%schur == 'explicit' .and. status%ok()) call status%set("deck '"//trim(d%path)// &
         "', group &solver, variable schur: physics = 'poromechanics_faults' takes 'fixed_stress' or 'algebraic'")
     end associate

@@ -8,7 +8,7 @@
 !>   S_t  = -H~                       the contact's regular diagonal (exact)
 !>   S_u  = BoomerAMG(S*),  S* = K + C1 H~^-1 C2   (the contact's)
 !>   S_q  = Jacobi (&solver flux_precon: or BoomerAMG, aFSAI) of A
-!>   S_P  = BoomerAMG (&solver schur_precon: or aFSAI) of the joint pressure
+!>   S_P  = BoomerAMG of the joint pressure
 !>          Schur complement of (pm, p), with D_q = ||A(f,:)||_2:
 !>     (pm,pm)  P + J + b^2 |c| / K_dr + dt B^T D_q^-1 B      (fixed stress
 !>              and scaled Laplacian, as 'biot'; schur = 'algebraic': Q^T

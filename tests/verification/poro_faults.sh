@@ -15,6 +15,9 @@
 #    Terzaghi of its own height, mass balance at round-off.
 # 3. A barrier of large transmissibility behaves like the open exchange.
 # 4. Without faults the composition gives biot's Terzaghi (1e-10).
+# 5. FGMRES with the block preconditioner against MUMPS (1e-6) and 1 vs 2
+#    vs 3 ranks (1e-8) on an injection into a fault in a permeable matrix
+#    that goes from stick through slip to open.
 set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -193,6 +196,40 @@ if r=$($PY tests/invariance/compare_runs.py "$out/nofault_biot" "$out/nofault_po
 else
   ko "no fault, poromechanics_faults vs biot: $(echo "$r" | tr '\n' ' ')"
 fi
+
+# 5. the block preconditioner (poro_faults_precon.f90): injection into a
+# fault in a permeable matrix until it slips and opens
+# (tests/decks/poro_faults_states.nml), FGMRES against MUMPS (1e-6, every
+# field at every step, relative to its largest magnitude), and 1 vs 2 vs 3
+# ranks (1e-8)
+src=tests/decks/poro_faults_states.nml
+deck states_mumps $src
+fgm="s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#"
+if run states_mumps 1; then
+  st=$(grep -E "^time step" "$out/states_mumps.log" | sed -E 's#.*stick/slip/open ([0-9/]+).*#\1#' | paste -sd' ')
+  if grep -q "^[1-9][0-9]*/[1-9][0-9]*/0" <<< "$st" && grep -qE "(^| )[1-9][0-9]*/[1-9][0-9]*/[1-9][0-9]*$" <<< "$st"; then
+    ok "injection into a fault in a permeable matrix: stick, slip and open met: $st"
+  else
+    ko "injection into a fault in a permeable matrix: not every status met: $st"
+  fi
+else
+  ko "injection run (MUMPS), see $out/states_mumps.log"
+fi
+for np in 1 2 3; do
+  deck states_fgmres$np $src -e "$fgm"
+  run states_fgmres$np $np || ko "injection run (FGMRES, $np ranks), see $out/states_fgmres$np.log"
+done
+its=$(grep "^  newton" "$out/states_fgmres1.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
+check() {  # label, command...
+  local label=$1 r; shift
+  if r=$("$@" 2>&1); then ok "$label: $(tail -1 <<< "$r")"; else ko "$label: $(tr '\n' ' ' <<< "$r")"; fi
+}
+check "FGMRES + the block preconditioner vs MUMPS (largest count $its)" $PY tests/verification/check_poro_faults_same.py \
+  "$out/states_mumps/states" "$out/states_fgmres1/states" 1e-6 "injection into a fault, FGMRES vs MUMPS"
+for np in 2 3; do
+  check "FGMRES, 1 vs $np ranks" $PY tests/verification/check_poro_faults_same.py "$out/states_fgmres1/states" \
+    "$out/states_fgmres$np/states" 1e-8 "injection into a fault, FGMRES, 1 vs $np ranks"
+done
 
 echo "poro_faults: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
