@@ -191,8 +191,6 @@ contains
       if (len_trim(ex(k)%material) > 0) material = material//', '//trim(ex(k)%material)
     end do
     call push_line(lines, material//' /')
-    ! (its one solver for now)
-    if (name == 'poromechanics_faults') call push_line(lines, "&solver method = 'mumps' /")
     if (variant == 'times') then
       call push_line(lines, '&time times = 1.0, 2.0 /')
     else if (transient) then
