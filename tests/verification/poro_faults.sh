@@ -219,7 +219,8 @@ for np in 1 2 3; do
   deck states_fgmres$np $src -e "$fgm"
   run states_fgmres$np $np || ko "injection run (FGMRES, $np ranks), see $out/states_fgmres$np.log"
 done
-its=$(grep "^  newton" "$out/states_fgmres1.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | sort -n | tail -1)
+its=$($PY -c "import csv, sys; print(max(int(r['iteration']) for r in csv.DictReader(open(sys.argv[1]))))" \
+  "$out/states_fgmres1/states_residuals.csv" 2>&1)
 check() {  # label, command...
   local label=$1 r; shift
   if r=$("$@" 2>&1); then ok "$label: $(tail -1 <<< "$r")"; else ko "$label: $(tr '\n' ' ' <<< "$r")"; fi
