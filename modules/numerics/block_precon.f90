@@ -38,6 +38,12 @@
 !> preconditioner, the framework fuses
 !> w_i + sum_j F(i,j) z_j = S_i^-1 (y_i - sum_j A_ij z_j), so that S_i is
 !> applied once; likewise S_j y_j computed for G(i,j) is reused for w_j.
+!> Consecutive blocks i..k may share one S (set_group): S_i^-1 then
+!> approximates the inverse of the Schur complement of the blocks i..k
+!> together, applied to their concatenated part of the block vector (the
+!> fields that one Schur complement couples too tightly to be split, as the
+!> matrix and fracture pressures of 'poromechanics_faults'); no factor
+!> couples blocks of a group.
 !> The Biot (u, q, p) system uses this module now; the contact systems (u, t)
 !> and (u, t, p_f) are the same framework with other blocks and choices.
 module block_precon
@@ -78,11 +84,13 @@ module block_precon
     type(block_factor_t), allocatable :: g(:,:)      !< (nb, nb) G(i,j), i > j
     real(rp), allocatable :: y(:), w(:), t(:), u(:)  !< work block vectors
     logical, allocatable :: fused(:), cached(:)
+    integer, allocatable :: group_first(:), group_last(:)  !< the group of each block (itself alone)
     integer :: n_apply = 0
   contains
     procedure :: init
     procedure :: set_explicit
     procedure :: set_implicit
+    procedure :: set_group
     procedure :: apply => bp_apply
     procedure :: name => bp_name
     procedure :: nnz_explicit
@@ -98,13 +106,15 @@ contains
     class(block_precon_t), intent(inout) :: self
     type(block_matrix_t), intent(in), target :: a
     character(len=*), intent(in) :: label
-    integer :: n
+    integer :: n, i
     call self%free()
     self%a => a
     self%label = label
     n = a%nb
     self%nb = n
     allocate(self%s(n), self%f(n, n), self%g(n, n), self%fused(n), self%cached(n))
+    self%group_first = [(i, i = 1, n)]
+    self%group_last = self%group_first
     allocate(self%y(a%offset(n + 1)), self%w(a%offset(n + 1)), self%t(a%offset(n + 1)), self%u(a%offset(n + 1)))
   end subroutine init
 
@@ -170,6 +180,28 @@ contains
     end subroutine put
   end subroutine set_implicit
 
+  !> Blocks first..last share S_first (set by the caller): the
+  !> preconditioner of their Schur complement together, applied to their
+  !> concatenated part of the block vector. No factor may couple two blocks
+  !> of the group, nor use S of a block in it as an inner preconditioner.
+  subroutine set_group(self, first, last)
+    class(block_precon_t), intent(inout) :: self
+    integer, intent(in) :: first, last
+    integer :: i, j
+    if (first >= last) error stop 'block_precon%set_group: a group has at least two blocks'
+    do i = first, last
+      do j = first, last
+        if (i < j) then
+          if (self%f(i, j)%kind /= factor_none) error stop 'block_precon%set_group: a factor inside the group'
+        else if (i > j) then
+          if (self%g(i, j)%kind /= factor_none) error stop 'block_precon%set_group: a factor inside the group'
+        end if
+      end do
+      self%group_first(i) = first
+      self%group_last(i) = last
+    end do
+  end subroutine set_group
+
   !> Move the arrays of a csr_matrix_t (pointers to maps are copied; an owned
   !> column map changes hands).
   subroutine move_csr(src, dst)
@@ -205,7 +237,7 @@ contains
         any_f = .true.
         if (self%f(i, j)%kind /= factor_implicit .or. self%f(i, j)%inner /= i) self%fused(i) = .false.
       end do
-      if (.not. any_f) self%fused(i) = .false.
+      if (.not. any_f .or. self%group_first(i) /= self%group_last(i)) self%fused(i) = .false.
     end do
   end subroutine plan
 
@@ -243,6 +275,12 @@ contains
         end do
         call self%s(i)%p%apply(self%t(a0:a1), z(a0:a1))
         cycle
+      end if
+      if (self%group_last(i) == i .and. self%group_first(i) < i) then
+        ! the group's S over its blocks' concatenated part: every w_k at once
+        call self%a%block_range(self%group_first(i), b0, b1)
+        call self%s(self%group_first(i))%p%apply(self%y(b0:a1), self%w(b0:a1))
+        self%cached(self%group_first(i):i) = .true.
       end if
       ! w_i = S_i^-1 y_i may be left by a G(., i) with S_i inside
       if (.not. self%cached(i)) call self%s(i)%p%apply(self%y(a0:a1), self%w(a0:a1))
@@ -371,6 +409,7 @@ contains
       deallocate(self%f, self%g)
     end if
     if (allocated(self%y)) deallocate(self%y, self%w, self%t, self%u, self%fused, self%cached)
+    if (allocated(self%group_first)) deallocate(self%group_first, self%group_last)
     self%a => null()
     self%nb = 0
     self%n_apply = 0

@@ -15,7 +15,9 @@
 !> ascending) with their keys; fetch_rows() extends one, collectively.
 !> to_csr() turns a global_csr_t into a csr_matrix_t (which owns the column
 !> map it builds) for fast application; from_csr() goes the other way;
-!> add_to_csr() adds one into a csr_matrix_t whose pattern holds it.
+!> add_to_csr() adds one into a csr_matrix_t whose pattern holds it;
+!> gcsr_stack() makes one matrix of a square array of blocks (a block of a
+!> block system's Schur complement that spans several fields).
 module global_csr
   use kinds, only: rp, ip, gp
   use parallel_comm, only: parallel_comm_t
@@ -26,7 +28,7 @@ module global_csr
 
   public :: global_csr_t, row_store_t
   public :: from_csr, to_csr, fetch_rows, gcsr_transpose, gcsr_multiply, gcsr_add, drop_small, search_gid
-  public :: add_to_csr, add_csr_to_csr
+  public :: add_to_csr, add_csr_to_csr, gcsr_stack
 
   type :: global_csr_t
     type(parallel_comm_t) :: comm
@@ -721,6 +723,69 @@ contains
     c%gcol = c%gcol(1:m)
     c%val = c%val(1:m)
   end subroutine gcsr_add
+
+  !> The nb x nb blocks b (b(i,j) used where has(i,j); block row and column
+  !> k share one split among ranks, taken from a present block of row k) as
+  !> one matrix c over the combined space in which each rank owns its blocks'
+  !> owned parts in block order: owned row i of block k is owned row
+  !> (rows of blocks 1..k-1) + i, the layout of a block vector's part.
+  !> Keys are the combined global ids. Collective (for c's keys: local).
+  subroutine gcsr_stack(b, has, c)
+    type(global_csr_t), intent(in) :: b(:,:)
+    logical, intent(in) :: has(:,:)
+    type(global_csr_t), intent(out) :: c
+    integer(gp), allocatable :: off(:,:), first(:)
+    integer(ip) :: nb, i, j, k, r, m, np, p, me, n
+    integer(gp) :: g
+    nb = int(size(b, 1), ip)
+    ! the split of every block's space, and the combined first ids
+    j = int(findloc(has(1, :), .true., dim=1), ip)
+    if (j == 0) error stop 'global_csr%gcsr_stack: a block row has no block'
+    c%comm = b(1, j)%comm
+    np = c%comm%size
+    allocate(off(nb, 0:np), first(0:np))
+    do i = 1, nb
+      j = int(findloc(has(i, :), .true., dim=1), ip)
+      if (j == 0) error stop 'global_csr%gcsr_stack: a block row has no block'
+      off(i, :) = b(i, j)%row_offsets
+    end do
+    me = c%comm%rank
+    first(0) = 1
+    do p = 1, np
+      first(p) = first(p - 1) + sum(off(:, p) - off(:, p - 1))
+    end do
+    c%row_offsets = first
+    c%col_offsets = first
+    c%n_rows = int(first(me + 1) - first(me), ip)
+    n = 0
+    do j = 1, nb
+      do i = 1, nb
+        if (has(i, j)) n = n + b(i, j)%nnz()
+      end do
+    end do
+    allocate(c%row_ptr(c%n_rows + 1), c%gcol(n), c%val(n), c%key(c%n_rows))
+    c%row_ptr(1) = 1
+    m = 0
+    r = 0
+    do i = 1, nb
+      do k = 1, int(off(i, me + 1) - off(i, me), ip)
+        r = r + 1
+        do j = 1, nb
+          if (.not. has(i, j)) cycle
+          do n = b(i, j)%row_ptr(k), b(i, j)%row_ptr(k + 1) - 1
+            g = b(i, j)%gcol(n)
+            p = rank_of(off(j, :), g)
+            m = m + 1
+            c%gcol(m) = first(p) + sum(off(1:j-1, p + 1) - off(1:j-1, p)) + (g - off(j, p))
+            c%val(m) = b(i, j)%val(n)
+          end do
+        end do
+        call sort_row(c%gcol(c%row_ptr(r):m), c%val(c%row_ptr(r):m))
+        c%row_ptr(r + 1) = m + 1
+        c%key(r) = first(me) + r - 1
+      end do
+    end do
+  end subroutine gcsr_stack
 
   !> Drop the entries of a square matrix with |a_ij| < tol sqrt(|a_ii a_jj|)
   !> (the diagonal is always kept). The diagonals of the columns are fetched

@@ -29,6 +29,15 @@
 !>   pressure_history  optional file of "time factor" rows (# comments) that
 !>                     multiplies pressure, as history in &boundary         ['']
 !>   initial_state     'stick' or 'open'                                ['stick']
+!> Exchange with the matrix's fluid (physics = 'poromechanics_faults' only;
+!> matrix_flow_component.f90):
+!>   exchange          'open': the matrix's pressure on the fault's faces is
+!>                     the fracture's; 'sealing': no flux through the faces;
+!>                     'barrier': a flux lambda |f| (p - p_f) through a face
+!>                     of area |f|                                    ['open']
+!>   exchange_transmissibility  lambda [m/(Pa s)], > 0 (= k_b / (mu w) of a
+!>                     barrier of permeability k_b and thickness w); with
+!>                     exchange = 'barrier' only, and required there
 module fault_config
   use kinds, only: rp, name_len, msg_len, path_len
   use parallel_comm, only: parallel_comm_t
@@ -62,6 +71,9 @@ module fault_config
     real(rp) :: pressure = 0.0_rp                    !< [Pa]
     character(len=path_len) :: pressure_history = ''
     character(len=8) :: initial_state = 'stick'
+    ! exchange with the matrix's fluid
+    character(len=8) :: exchange = 'open'
+    real(rp) :: exchange_transmissibility = 0.0_rp   !< [m/(Pa s)], 'barrier' only
     real(rp), allocatable :: hist_t(:), hist_f(:)
     logical :: box_geometry = .true.                 !< the geometry variables apply (box mesh)
   contains
@@ -86,20 +98,21 @@ contains
     character(len=1) :: normal_axis, dip_axis
     real(rp) :: position, dip, lower(3), upper(3), radius, centre(3), friction_angle, cohesion, pressure
     character(len=path_len) :: pressure_history
-    character(len=8) :: initial_state
+    character(len=8) :: initial_state, exchange
+    real(rp) :: exchange_transmissibility
     integer :: k, j, i, ios
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     character(len=8) :: ic
     namelist /fault/ name, normal_axis, position, dip, dip_axis, lower, upper, radius, centre, friction_angle, &
-                     cohesion, pressure, pressure_history, initial_state
+                     cohesion, pressure, pressure_history, initial_state, exchange, exchange_transmissibility
 
     allocate(faults(d%count('fault')))
     do k = 1, size(faults)
       name = ''; normal_axis = ' '; position = unset_real; dip = unset_real; dip_axis = ' '
       lower = unset_real; upper = unset_real; radius = unset_real; centre = unset_real
       friction_angle = 30.0_rp; cohesion = 0.0_rp; pressure = 0.0_rp; pressure_history = ''
-      initial_state = 'stick'
+      initial_state = 'stick'; exchange = 'open'; exchange_transmissibility = unset_real
       call d%block('fault', k, b)
       read(b, nml=fault, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -165,6 +178,7 @@ contains
         call d%fail(status, 'fault', k, 'cohesion', 'must not be negative (got '//rtoa(cohesion)//')')
       if (initial_state /= 'stick' .and. initial_state /= 'open') &
         call d%fail(status, 'fault', k, 'initial_state', "must be 'stick' or 'open' (got '"//trim(initial_state)//"')")
+      call check_exchange(d, k, exchange, exchange_transmissibility, status)
       if (.not. status%ok()) return
       faults(k)%name = name
       faults(k)%normal_axis = normal_axis
@@ -181,8 +195,11 @@ contains
       call d%input_path('fault', k, 'pressure_history', pressure_history, faults(k)%pressure_history, status)
       faults(k)%initial_state = initial_state
       faults(k)%box_geometry = source == 'box'
+      faults(k)%exchange = exchange
+      faults(k)%exchange_transmissibility = exchange_transmissibility
     end do
   contains
+
     !> radius and centre of a circular fault (box): radius > 0, dip = 0, the
     !> in-plane components of centre given; without radius, no centre.
     !> Leaves radius = 0 (no disc) or the disc with centre's normal
@@ -218,6 +235,33 @@ contains
                   "fault's geometry")
     end subroutine gmsh_refuses
   end subroutine read_faults
+
+  !> exchange is 'open', 'sealing' or 'barrier'; a barrier needs its
+  !> transmissibility (> 0), which the others refuse (&fault number k; an
+  !> unset transmissibility becomes 0).
+  subroutine check_exchange(d, k, exchange, exchange_transmissibility, status)
+    type(deck_t), intent(in) :: d
+    integer, intent(in) :: k
+    character(len=*), intent(in) :: exchange
+    real(rp), intent(inout) :: exchange_transmissibility
+    type(error_status_t), intent(inout) :: status
+    if (exchange /= 'open' .and. exchange /= 'sealing' .and. exchange /= 'barrier') then
+      call d%fail(status, 'fault', k, 'exchange', "must be 'open', 'sealing' or 'barrier' (got '"// &
+                  trim(exchange)//"')")
+    else if (exchange == 'barrier') then
+      if (exchange_transmissibility == unset_real) then
+        call d%fail(status, 'fault', k, 'exchange_transmissibility', "required with exchange = 'barrier' "// &
+                    '(the flux per area and pressure difference through the barrier, m/(Pa s))')
+      else if (.not. (exchange_transmissibility > 0.0_rp .and. exchange_transmissibility < huge(1.0_rp))) then
+        call d%fail(status, 'fault', k, 'exchange_transmissibility', 'must be positive and finite (got '// &
+                    rtoa(exchange_transmissibility)//')')
+      end if
+    else if (exchange_transmissibility /= unset_real) then
+      call d%fail(status, 'fault', k, 'exchange_transmissibility', "is for exchange = 'barrier' only (got "// &
+                  "exchange = '"//trim(exchange)//"')")
+    end if
+    if (exchange_transmissibility == unset_real) exchange_transmissibility = 0.0_rp
+  end subroutine check_exchange
 
   !> The resolved &fault group: the geometry only for a box mesh, a
   !> circular fault's radius and centre only when it has them.
@@ -264,6 +308,17 @@ contains
                "scaling pressure ('': none)")
     call g%add('initial_state', self%initial_state, '-', 'status of every element at the start', &
                "'stick' or 'open'")
+    call g%add('exchange', self%exchange, '-', "exchange with the matrix's fluid ('poromechanics_faults'): "// &
+               "'open' (the faces' matrix pressure is the fracture's), 'sealing' (no flux through the faces) or "// &
+               "'barrier' (flux lambda |f| (p - p_f) through a face)", "'open', 'sealing' or 'barrier'")
+    if (self%exchange == 'barrier') then
+      call g%add('exchange_transmissibility', self%exchange_transmissibility, 'm/(Pa s)', 'lambda of the '// &
+                 'barrier: flux per face area and pressure difference (k_b / (mu w))', "> 0; exchange = 'barrier' only")
+    else
+      call g%add_unset('exchange_transmissibility', "(none: exchange is not 'barrier')", 'm/(Pa s)', 'lambda of '// &
+                       'the barrier: flux per face area and pressure difference (k_b / (mu w))', 'real', &
+                       "> 0; exchange = 'barrier' only")
+    end if
   end subroutine describe_fault
 
   !> Axis index 1..3 of normal_axis.

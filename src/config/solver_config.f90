@@ -189,8 +189,8 @@ contains
     call g%init('solver', "the linear solver of each Newton iteration and the block preconditioner's parts")
     call g%add('method', self%method, '-', "Krylov method, or the direct solver ('cg': elasticity only)", &
                "'fgmres', 'cg' or 'mumps'")
-    call g%add('precon', self%precon, '-', "preconditioner: 'block' (ours) and 'mgr' (hypre's MGR) for biot, "// &
-               "contact and fracture_flow, the others for elasticity", &
+    call g%add('precon', self%precon, '-', "preconditioner: 'block' (ours) for biot, contact, fracture_flow "// &
+               "and poromechanics_faults, 'mgr' (hypre's MGR) for the first three, the others for elasticity", &
                "'boomeramg', 'jacobi', 'afsai', 'hypre_fsai', 'none', 'block' or 'mgr'")
     call g%add('rtol', self%rtol, '-', 'relative residual tolerance (of the scaled system where the physics '// &
                'scales it)', '(0, 1)')

@@ -169,7 +169,7 @@ contains
     character(len=:), allocatable :: material
     logical :: flow, faults, transient
     integer :: k
-    flow = name == 'fracture_flow'
+    flow = name == 'fracture_flow' .or. name == 'poromechanics_faults'
     faults = name == 'contact' .or. flow
     transient = name == 'biot' .or. flow
     allocate(lines(0))
@@ -186,7 +186,7 @@ contains
       call push_line(lines, '&mesh nx = 4, ny = 4, nz = 4 /')
     end select
     material = "&material region = 'domain', young = 1.0e9, poisson = 0.25"
-    if (name == 'biot') material = material//', permeability = 1.0e-12'
+    if (name == 'biot' .or. name == 'poromechanics_faults') material = material//', permeability = 1.0e-12'
     do k = 1, size(ex)
       if (len_trim(ex(k)%material) > 0) material = material//', '//trim(ex(k)%material)
     end do

@@ -136,6 +136,10 @@ module contact_precon
     type(csr_matrix_t) :: lsub                   !< its operator L = Y^T A Z
     class(precon_t), allocatable :: plsub        !< BoomerAMG of L
     logical :: subspace = .false.                !< flow: the subspace correction (&fracture_flow)
+    !> flow: S_p's matrix only, its preconditioner left to the caller (the
+    !> joint pressure Schur complement of 'poromechanics_faults',
+    !> poro_faults_precon.f90); rebuilt: the last set-up made the Schur part
+    logical :: joint_pressure = .false., rebuilt = .false.
     integer(gp) :: nnz_schur = 0                 !< non-zeros of the last Schur matrix
   contains
     procedure :: setup
@@ -169,6 +173,7 @@ contains
     self%t_sprec = 0.0_rp
     self%t_sp = 0.0_rp
     self%t_sub = 0.0_rp
+    self%rebuilt = .false.
     if (.not. self%ready) then
       self%variant = ccfg%block
       call self%bp%init(phys%sys, 'contact-'//trim(ccfg%block))
@@ -227,6 +232,7 @@ contains
       end if
     end if
     if (status%ok()) self%built_state = phys%ic%state(1:mesh%iface_map%n_owned)
+    self%rebuilt = status%ok()
     self%built_dt = phys%dt
     self%t_setup = wall_time() - t0
   end subroutine setup
@@ -530,6 +536,7 @@ contains
     call self%sp%free()
     call to_csr(sp, phys%fc%pd%map, self%sp)
     self%nnz_pressure = self%sp%global_nnz()
+    if (self%joint_pressure) return
     params%amg = amg%scalar()
     call make_and_setup(choice, p, self%sp, params, status)
     if (.not. status%ok()) return

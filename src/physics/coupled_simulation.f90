@@ -32,6 +32,8 @@ module coupled_simulation
   use param_group, only: param_group_t
   use flow_config, only: flow_config_t
   use contact_precon, only: contact_precon_t
+  use poro_faults_precon, only: poro_faults_precon_t
+  use precon_factory, only: precon_params_t
   use mgr_precon, only: mgr_precon_t, mgr_contact, mgr_flow
   use simulation, only: simulation_t, foreign_len, common_parameter_groups, step_stats_t
   use physics_component, only: physics_component_t, coupling_t, field_len
@@ -57,6 +59,7 @@ module coupled_simulation
     character(len=foreign_len), allocatable :: refused(:)
     type(coupling_t) :: ctx
     type(contact_precon_t) :: cpc
+    type(poro_faults_precon_t) :: pfp               !< with the matrix's fluid: its blocks in cpc's framework
     type(mgr_precon_t) :: mgr                       !< &solver precon = 'mgr': hypre's MGR (the peer)
     real(rp), allocatable :: dsc(:)                 !< scaling of the block system
     ! the Newton loop's convergence test (check_residual)
@@ -136,7 +139,9 @@ contains
     type(error_status_t), intent(inout) :: status
     integer :: k
     call link(self)
-    call self%read_common(d, log, status, 'block', flow_conditions=.false., with_faults=.true.)
+    ! the matrix's fluid takes pressure and flux conditions (and no &pressure_change)
+    call self%read_common(d, log, status, 'block', flow_conditions=has_kind(self, 'matrix_flow'), &
+                          with_faults=.true.)
     do k = 1, size(self%slots)
       if (status%ok()) call self%slots(k)%c%read_deck(self%ctx, d, mcfg, log, status)
     end do
@@ -155,14 +160,29 @@ contains
     list = [character(len=foreign_len) :: 'biot', 'source', 'block_fsai', &
             'material%biot_modulus', &
             'material%permeability', 'material%permeability_tensor', 'material%viscosity']
+    ! the matrix's fluid uses them (and refuses &block_fsai, which is biot's)
+    if (has_kind(self, 'matrix_flow')) list = [character(len=foreign_len) :: 'block_fsai']
     list = [list, self%refused]
     do k = 1, size(self%slots)
       call self%slots(k)%c%foreign_inputs(more)
       list = [list, more]
     end do
     ! the Biot coefficient weighs a &pressure_change
-    if (size(self%pcs) == 0) list = [list, [character(len=foreign_len) :: 'material%biot']]
+    if (size(self%pcs) == 0 .and. .not. has_kind(self, 'matrix_flow')) &
+      list = [list, [character(len=foreign_len) :: 'material%biot']]
   end subroutine foreign_inputs
+
+  !> Whether the composition has a component of kind.
+  logical function has_kind(self, kind)
+    type(coupled_simulation_t), intent(in) :: self
+    character(len=*), intent(in) :: kind
+    integer :: k
+    has_kind = .false.
+    if (.not. allocated(self%slots)) return
+    do k = 1, size(self%slots)
+      has_kind = has_kind .or. self%slots(k)%c%kind == kind
+    end do
+  end function has_kind
 
   !> The resolved groups: the shared ones, then the components' in order.
   subroutine parameter_groups(self, groups)
@@ -242,7 +262,8 @@ contains
     fc => flow_component(self)
     if (self%solver%method /= 'mumps' .and. associated(ic)) then
       if (ic%ccfg%block /= 'classical' .or. associated(fc)) call to_position(findloc(order, 't', dim=1), 1)
-      if (associated(fc)) then
+      ! with the matrix's fluid: t, u, q, pm, p (the two pressures last, one group)
+      if (associated(fc) .and. .not. has_kind(self, 'matrix_flow')) then
         if (fc%fcfg%pressure_block == 'eliminated') call to_position(findloc(order, 'p', dim=1), 2)
       end if
     end if
@@ -352,6 +373,9 @@ contains
                       associated(flow_component(self))))//', u by BoomerAMG)')
       else
         call log%info('linear solver: FGMRES with the '//trim(ic%ccfg%block)//' block preconditioner')
+        if (has_kind(self, 'matrix_flow')) call log%info('  with the matrix fluid: blocks t, u, q, (pm, p); S_q '// &
+          trim(self%solver%flux_precon)//', S_P of (pm, p) '//trim(self%solver%schur)//' + scaled Laplacian, '// &
+          trim(self%solver%schur_precon))
       end if
     end if
     self%amg_k = self%amg
@@ -470,7 +494,9 @@ contains
       call mgr_setup(self, status)
     else if (associated(fc)) then
       self%cpc%subspace = fc%fcfg%subspace_correction
+      self%cpc%joint_pressure = has_kind(self, 'matrix_flow')
       call self%cpc%setup(self%ctx, self%mesh, ic%ccfg, self%amg_k, status, fc%fcfg%pressure_precon)
+      if (self%cpc%joint_pressure) call matrix_fluid_setup(self, status)
     else
       self%cpc%subspace = .false.
       call self%cpc%setup(self%ctx, self%mesh, ic%ccfg, self%amg_k, status, no_flow%pressure_precon)
@@ -490,12 +516,26 @@ contains
       sys%m => self%cpc%bp
     end if
     if (self%solver%precon /= 'mgr') call self%cpc%add_parts(sys)
+    if (self%cpc%joint_pressure) call self%pfp%add_parts(sys)
     sys%d => self%dsc
     sys%setup_time = wall_time() - t0
     call self%ctx%range('u', u0, u1)
     sys%k_ref => self%ctx%sys%a(self%ctx%block('u'), self%ctx%block('u'))
     sys%b_ref => self%ctx%rhs(u0:u1)
   end subroutine linear_system
+
+  !> The matrix fluid's blocks of the contact's preconditioner
+  !> (poro_faults_precon.f90), after its set-up. Collective.
+  subroutine matrix_fluid_setup(self, status)
+    type(coupled_simulation_t), intent(inout), target :: self
+    type(error_status_t), intent(inout) :: status
+    type(precon_params_t) :: params
+    if (.not. status%ok()) return
+    params%amg = self%amg%scalar()
+    params%fsai = self%fsai%precon
+    call self%pfp%setup(self%cpc, self%ctx, self%solver%schur, self%solver%schur_precon, self%solver%flux_precon, &
+                        params, status)
+  end subroutine matrix_fluid_setup
 
   !> hypre's MGR on the whole system (labels: the components of each field
   !> in the order of the components: u 0-2, t 3-5, p 6). Collective.
@@ -860,6 +900,7 @@ contains
     class(coupled_simulation_t), intent(inout) :: self
     integer :: k
     call self%cpc%free()
+    call self%pfp%free()
     call self%mgr%free()
     if (allocated(self%slots)) then
       do k = 1, size(self%slots)

@@ -78,6 +78,7 @@ module fracture_flow_component
     procedure :: write_output
     procedure :: sample
     procedure :: progress
+    procedure :: held
     procedure :: free
   end type fracture_flow_component_t
 
@@ -358,7 +359,7 @@ contains
       call jpp%zero()
       call ctx%range('p', p0, p1)
       do e = 1, ctx%mesh%iface_map%n_owned
-        if (dt == 0.0_rp .or. self%pfix(e) > 0) then
+        if (self%held(e)) then
           ! held (step 0) or prescribed: p = p^step or p = the prescribed value
           call jpp%add_value(e, e, 1.0_rp)
           rhs(p0 + e - 1) = -(self%p(e) - merge(self%p_fixed(e), self%p_step(e), dt > 0.0_rp))
@@ -404,6 +405,12 @@ contains
           self%mass_noise(e) = self%mass_noise(e) + abs(m_self) * (abs(self%p(e)) + abs(self%p_step(e))) + &
                                abs(m_off) * (abs(self%p(o)) + abs(self%p_step(o)))
         end do
+        if (allocated(ctx%fracture_exchange)) then
+          ! the matrix's fluid into the element (matrix_flow_component.f90)
+          r = r - ctx%fracture_exchange(e)
+          self%mass_mag(e) = self%mass_mag(e) + abs(ctx%fracture_exchange(e))
+          self%mass_noise(e) = self%mass_noise(e) + ctx%fracture_exchange_mag(e)
+        end if
         rhs(p0 + e - 1) = -r
       end do
       ! the wells' rates (-dt q in r); their volumes count in the magnitudes
@@ -490,7 +497,7 @@ contains
     type(coupling_t), intent(in) :: ctx
     type(field_output_t), intent(inout) :: out
     type(error_status_t), intent(inout) :: status
-    if (.not. status%ok()) return
+    if (.not. status%ok() .or. size(ctx%sim%faults) == 0) return
     associate (n => ctx%mesh%iface_map%n_owned, grid => self%ic%fout%grid)
       call out%writer%cell_field('aperture', self%ff%aperture(1:n), status, grid)
       if (status%ok()) call out%writer%cell_field('area', self%ic%area(1:n), status, grid)
@@ -560,9 +567,18 @@ contains
     type(coupling_t), intent(in) :: ctx
     character(len=*), intent(inout) :: line
     character(len=32) :: piece
+    if (size(ctx%sim%faults) == 0) return
     write(piece, '(a,es10.3,a)') '  max p ', ctx%sim%comm%max(maxval(self%p(1:ctx%mesh%iface_map%n_owned))), ' Pa'
     line = trim(line)//piece
   end subroutine progress
+
+  !> Whether the mass row of local element e holds its pressure (the step
+  !> of size 0, or a &fracture_pressure) rather than balancing its fluid.
+  logical function held(self, e)
+    class(fracture_flow_component_t), intent(in) :: self
+    integer(ip), intent(in) :: e
+    held = self%dt == 0.0_rp .or. self%pfix(e) > 0
+  end function held
 
   subroutine free(self)
     class(fracture_flow_component_t), intent(inout) :: self

@@ -66,7 +66,7 @@ module interface_contact
   use mesh_pieces, only: mesh_pieces_t
   use field_output, only: field_output_t
   use fracture_output, only: fracture_output_t
-  use probe_fields, only: probe_fields_t
+  use probe_fields, only: probe_fields_t, scalar_name_len
   use dist_vector, only: pnorm2
   use physics_component, only: physics_component_t, coupling_t, field_len, update_piece
   use mechanics_component, only: mechanics_component_t, mechanics_of
@@ -207,6 +207,9 @@ contains
     type(deck_t), intent(in) :: d
     type(error_status_t), intent(inout) :: status
     type(mechanics_component_t), pointer :: mc
+    logical :: matrix
+    ! with the matrix's fluid, a mesh without faults is Biot's problem
+    matrix = associated(ctx%find('matrix_flow'))
     associate (sim => ctx%sim)
       ! the in-situ and pressure-change loads are nodal: the bubbles' share of
       ! them is not made yet
@@ -227,7 +230,7 @@ contains
       else if (sim%solver%method == 'fgmres' .and. sim%solver%precon /= 'block' .and. sim%solver%precon /= 'mgr') then
         call status%set("deck '"//trim(d%path)//"', group &solver, variable precon: the contact system with fgmres "// &
           "needs precon = 'block' (ours, &contact block) or 'mgr' (hypre's)")
-      else if (size(sim%faults) == 0) then
+      else if (size(sim%faults) == 0 .and. .not. matrix) then
         call status%set("deck '"//trim(d%path)//"': physics = 'contact' needs at least one &fault group")
       end if
     end associate
@@ -552,12 +555,14 @@ contains
     if (ctx%initial) self%jump_geo = self%jump
   end subroutine accept_step
 
-  !> The 'fractures' grid beside the mesh, in <prefix>_fractures.xdmf. Collective.
+  !> The 'fractures' grid beside the mesh, in <prefix>_fractures.xdmf
+  !> (none without faults: 'poromechanics_faults' allows that). Collective.
   subroutine open_output(self, ctx, out, status)
     class(interface_contact_t), intent(inout) :: self
     type(coupling_t), intent(in) :: ctx
     type(field_output_t), intent(inout) :: out
     type(error_status_t), intent(inout) :: status
+    if (size(ctx%sim%faults) == 0) return
     call self%fout%init(out, ctx%mesh, status)
     if (status%ok()) self%fractures_xdmf = out%writer%xdmf_path(self%fout%grid)
   end subroutine open_output
@@ -569,6 +574,7 @@ contains
     type(coupling_t), intent(in) :: ctx
     type(field_output_t), intent(inout) :: out
     type(error_status_t), intent(inout) :: status
+    if (size(ctx%sim%faults) == 0) return
     ! the output's status codes count from 0 (state_stick = 1, slip 2, open 3)
     if (status%ok()) call self%fout%write_step(out, ctx%mesh, self%trac, self%jump - self%jump_geo, &
                                                 self%state - 1, self%rot, self%fric, self%coh, status)
@@ -588,12 +594,13 @@ contains
     type(coupling_t), intent(in) :: ctx
     type(probe_fields_t), intent(inout) :: pf
     type(error_status_t), intent(inout) :: status
-    real(rp), allocatable :: smax(:), area(:)
+    real(rp), allocatable :: smax(:), area(:), values(:)
+    character(len=scalar_name_len), allocatable :: names(:)
     integer(ip) :: e
     integer :: f, nf
     associate (mesh => ctx%mesh, comm => ctx%sim%comm)
       nf = size(mesh%fault_names)
-      allocate(smax(nf), area(nf), pf%names(2 * nf), pf%values(2 * nf))
+      allocate(smax(nf), area(nf), names(2 * nf), values(2 * nf))
       smax = 0.0_rp
       area = 0.0_rp
       do e = 1, mesh%iface_map%n_owned
@@ -603,12 +610,20 @@ contains
       end do
       call comm%sum_all(area)
       do f = 1, nf
-        pf%names(2*f - 1) = trim(mesh%fault_names(f))//':max_slip [m]'
-        pf%names(2*f) = trim(mesh%fault_names(f))//':slip_area [m2]'
-        pf%values(2*f - 1) = comm%max(smax(f))
-        pf%values(2*f) = area(f)
+        names(2*f - 1) = trim(mesh%fault_names(f))//':max_slip [m]'
+        names(2*f) = trim(mesh%fault_names(f))//':slip_area [m2]'
+        values(2*f - 1) = comm%max(smax(f))
+        values(2*f) = area(f)
       end do
     end associate
+    ! after the scalars of the components before it (the matrix flow's)
+    if (allocated(pf%names)) then
+      pf%names = [pf%names, names]
+      pf%values = [pf%values, values]
+    else
+      call move_alloc(names, pf%names)
+      call move_alloc(values, pf%values)
+    end if
   end subroutine sample
 
   !> The statuses and the largest slip.

@@ -83,6 +83,11 @@ module physics_component
     !> (owned u dofs) the forces other unknowns put on the momentum rows
     !> (C1 (t - p n)), and the magnitudes of their operands (|C1| |t - p n|)
     real(rp), allocatable :: momentum_coupling(:), momentum_coupling_mag(:)
+    !> (owned interface elements; allocated by a component that puts fluid
+    !> into the fractures: the matrix flow) the fluid volume it puts into
+    !> each element over the step [m^3], and the magnitude of its terms'
+    !> operands; the fracture flow's mass rows take it in
+    real(rp), allocatable :: fracture_exchange(:), fracture_exchange_mag(:)
   contains
     procedure :: block => field_block
     procedure :: range => field_range

@@ -25,13 +25,12 @@ module poromechanics
   use dof_map, only: dof_map_t
   use sparsity, only: element_pattern
   use quadrature, only: gauss_hex
-  use hex_q1, only: hex_gradients, inverse3
-  use hex_rt0, only: rt0_cell_mass, rt0_cell_divergence, rt0_values, rt0_orient
-  use elasticity, only: elasticity_t, lame
+  use hex_q1, only: hex_gradients
+  use elasticity, only: elasticity_t
+  use poro_media, only: poro_media_t, cell_coupling, cell_darcy, flow_patterns
   use material_config, only: material_config_t
   use boundary_config, only: boundary_config_t
   use source_config, only: source_config_t
-  use face_box, only: face_in_box
   implicit none
   private
 
@@ -39,33 +38,14 @@ module poromechanics
 
   integer, parameter :: iu = 1, iq = 2, ipr = 3
 
-  type :: poromechanics_t
+  !> The medium's data and kernels (poro_media_t: materials, flux boundary
+  !> data, stabilization weights) and the Biot system of a step.
+  type, extends(poro_media_t) :: poromechanics_t
     type(elasticity_t) :: mech
     type(dof_map_t) :: qd, pd                 !< flux (faces) and pressure (cells) dofs
     type(block_matrix_t) :: sys
     real(rp), allocatable :: rhs(:)           !< block vector
     real(rp), allocatable :: x(:), x_old(:)   !< state at the new and the previous time (block vectors)
-    real(rp), allocatable :: biot(:), inv_m(:), kdr(:), kinv(:,:,:)   !< per region
-    real(rp), allocatable :: vol(:)           !< local cell volumes [m^3]
-    real(rp), allocatable :: src_rate(:)      !< fluid source per region [1/s]
-    logical, allocatable :: q_fixed(:)        !< local faces with a prescribed flux (0 = no flow)
-    real(rp), allocatable :: q_value(:)       !< prescribed flux through local faces [m^3/s]
-    real(rp), allocatable :: p_bc(:)          !< pressure of pressure faces [Pa], by local face
-    logical, allocatable :: p_face(:)
-    integer(ip), allocatable :: face_bc(:)    !< condition of a pressure or flux face (0: none)
-    type(boundary_config_t), allocatable :: bcs(:)
-    real(rp) :: a_scale = 1.0_rp
-    real(rp), allocatable :: a_norm(:)        !< ||A(f,:)||_2 by local face (ghosts imported)
-    !> Pressure-jump stabilization by local face: the weight of the step
-    !> (jump_w, for the step size jump_dt), the weight of the undrained
-    !> incompressible limit (jump_full), and what sizes it between the two
-    !> (jump_r0, jump_fo; see jump_weights and jump_factor)
-    real(rp), allocatable :: jump_w(:)        !< [m^3/Pa]
-    real(rp), allocatable :: jump_full(:)     !< [m^3/Pa]
-    real(rp), allocatable :: jump_r0(:)       !< (b^2/M_c) / (b^2/M_c + 1/M) [-]
-    real(rp), allocatable :: jump_fo(:)       !< c_v / h_f^2, the mesh Fourier number per second [1/s]
-    logical :: jump_adaptive = .true.         !< the weight follows dt (else jump_full at every step)
-    real(rp) :: jump_dt = -1.0_rp             !< step size of jump_w and of the (p, p) block [s] (< 0: none)
     !> The matrix is the same at every step but for its (p, q) block, dt B,
     !> and (adaptive stabilization) its (p, p) block: assembled once
     !> (matrix_ready), then only the (p, q) block is scaled (from pq_unit,
@@ -78,7 +58,6 @@ module poromechanics
     procedure :: assemble
     procedure :: fixed_stress_schur
     procedure :: algebraic_schur
-    procedure :: cell_velocity
     procedure :: free
   end type poromechanics_t
 
@@ -98,53 +77,20 @@ contains
     real(rp), intent(in) :: stab_beta
     logical, intent(in) :: stab_adaptive
     type(error_status_t), intent(inout) :: status
-    integer(ip), allocatable :: row_ptr(:), col(:), cells(:,:)
-    integer(ip) :: r, m, i, c, b, s, f, nreg
-    real(rp) :: lam, mu, km(3, 3), det, tol(3)
+    integer(ip), allocatable :: row_ptr(:), col(:)
 
     call self%free()
     call self%mech%init(mesh, mats, bcs, status)
     if (.not. status%ok()) return
-    nreg = size(mesh%region_names, kind=ip)
-    allocate(self%biot(nreg), self%inv_m(nreg), self%kdr(nreg), self%kinv(3, 3, nreg))
-    do r = 1, nreg
-      m = 0
-      do i = 1, size(mats, kind=ip)
-        if (mats(i)%region == mesh%region_names(r)) m = i
-      end do
-      if (all(mats(m)%perm == 0.0_rp)) then
-        call status%set("&material of region '"//trim(mats(m)%region)// &
-                        "': permeability (or permeability_tensor) is required for physics = 'biot'")
-        return
-      end if
-      self%biot(r) = mats(m)%biot
-      self%inv_m(r) = mats(m)%inv_biot_modulus
-      call lame(mats(m)%young, mats(m)%poisson, lam, mu)
-      self%kdr(r) = lam + 2.0_rp * mu / 3.0_rp
-      call inverse3(mats(m)%perm, km, det)
-      self%kinv(:, :, r) = mats(m)%viscosity * km
-    end do
+    call self%init_media(mesh, mats, bcs, srcs, stab_beta, stab_adaptive, self%mech%box_tol, 'biot', status)
+    if (.not. status%ok()) return
 
     call self%qd%init('flux', mesh%face_map, 1_ip)
     call self%pd%init('pressure', mesh%cell_map, 1_ip)
     call self%sys%init([self%mech%u%n_owned(), self%qd%n_owned(), self%pd%n_owned()])
-    allocate(cells(1, mesh%n_cells))
-    cells(1, :) = [(c, c = 1, mesh%n_cells)]
     call element_pattern(mesh%node_map%n_owned, mesh%cell_nodes, mesh%cell_nodes, 3_ip, 3_ip, row_ptr, col)
     call self%sys%set_pattern(iu, iu, self%mech%u%map, self%mech%u%map, row_ptr, col)
-    call element_pattern(mesh%node_map%n_owned, mesh%cell_nodes, cells, 3_ip, 1_ip, row_ptr, col)
-    call self%sys%set_pattern(iu, ipr, self%mech%u%map, self%pd%map, row_ptr, col)
-    call element_pattern(mesh%cell_map%n_owned, cells, mesh%cell_nodes, 1_ip, 3_ip, row_ptr, col)
-    call self%sys%set_pattern(ipr, iu, self%pd%map, self%mech%u%map, row_ptr, col)
-    call element_pattern(mesh%face_map%n_owned, mesh%cell_faces, mesh%cell_faces, 1_ip, 1_ip, row_ptr, col)
-    call self%sys%set_pattern(iq, iq, self%qd%map, self%qd%map, row_ptr, col)
-    call element_pattern(mesh%face_map%n_owned, mesh%cell_faces, cells, 1_ip, 1_ip, row_ptr, col)
-    call self%sys%set_pattern(iq, ipr, self%qd%map, self%pd%map, row_ptr, col)
-    call element_pattern(mesh%cell_map%n_owned, cells, mesh%cell_faces, 1_ip, 1_ip, row_ptr, col)
-    call self%sys%set_pattern(ipr, iq, self%pd%map, self%qd%map, row_ptr, col)
-    ! pressure-pressure: cells sharing a face (room for the stabilization)
-    call element_pattern(mesh%cell_map%n_owned, mesh%face_cells, mesh%face_cells, 1_ip, 1_ip, row_ptr, col)
-    call self%sys%set_pattern(ipr, ipr, self%pd%map, self%pd%map, row_ptr, col)
+    call flow_patterns(mesh, self%sys, [iu, iq, ipr], self%mech%u%map, self%qd%map, self%pd%map)
     n_check: block
       integer(ip) :: nb
       nb = self%sys%offset(4)
@@ -152,153 +98,9 @@ contains
     end block n_check
     self%x = 0.0_rp
     self%x_old = 0.0_rp
-
-    allocate(self%src_rate(nreg))
-    self%src_rate = 0.0_rp
-    do i = 1, size(srcs, kind=ip)
-      r = mesh%region_id(srcs(i)%region)
-      if (r == 0) then
-        call status%set("&source in region '"//trim(srcs(i)%region)//"', which the mesh does not have "// &
-                        '(its regions: '//mesh%region_list()//')')
-        return
-      end if
-      self%src_rate(r) = self%src_rate(r) + srcs(i)%rate
-    end do
-    allocate(self%vol(mesh%n_cells))
-    do c = 1, mesh%n_cells
-      self%vol(c) = mesh%cell_volume(c)
-    end do
-
-    ! flux boundary data: impermeable unless a pressure or flux condition says otherwise
-    allocate(self%q_fixed(mesh%n_faces), self%q_value(mesh%n_faces), self%p_face(mesh%n_faces), &
-             self%p_bc(mesh%n_faces), self%face_bc(mesh%n_faces))
-    self%face_bc = 0
-    self%bcs = bcs
-    self%q_fixed = mesh%face_on_boundary
-    self%q_value = 0.0_rp
-    self%p_face = .false.
-    self%p_bc = 0.0_rp
-    tol = self%mech%box_tol
-    do b = 1, size(bcs, kind=ip)
-      if (bcs(b)%type /= 'pressure' .and. bcs(b)%type /= 'flux') cycle
-      s = mesh%set_id(bcs(b)%set)
-      do i = 1, mesh%n_sfaces
-        if (mesh%sface_set(i) /= s) cycle
-        f = mesh%sface_face(i)
-        if (.not. mesh%face_on_boundary(f)) then
-          call status%set("&boundary type = '"//trim(bcs(b)%type)//"' on set '"//trim(bcs(b)%set)// &
-                          "', which is not on the boundary")
-          return
-        end if
-        if (.not. face_in_box(mesh, f, bcs(b)%lower, bcs(b)%upper, tol)) cycle
-        self%face_bc(f) = b
-        if (bcs(b)%type == 'pressure') then
-          self%q_fixed(f) = .false.
-          self%p_face(f) = .true.
-          self%p_bc(f) = bcs(b)%value(1)
-        else
-          self%q_fixed(f) = .true.
-          self%p_face(f) = .false.
-          self%q_value(f) = bcs(b)%value(1) * face_area(mesh, f)
-        end if
-      end do
-    end do
-    allocate(self%a_norm(mesh%n_faces))
-    self%jump_adaptive = stab_adaptive
-    call jump_weights(self, mesh, mats, stab_beta)
   end subroutine init
 
-  !> Weights of the pressure-jump stabilization (after Berger, Bordas, Kay
-  !> and Tavener, SIAM J. Sci. Comput. 37 (2015), local pressure jumps for
-  !> Q1/P0-type poroelasticity): for an interior face f between cells c1, c2,
-  !>   w_f = beta h_f |f| / M_c,  h_f = |x_c1 - x_c2|,  M_c the mean constrained
-  !> modulus lambda + 2 mu of the two cells,
-  !> so that J(p, chi) = sum_f w_f [p]_f [chi]_f has the units of the mass
-  !> balance (volume) and the size of the undrained Schur complement b^2 V / M_c
-  !> times beta. It acts on the pressure increment of each step, so it
-  !> vanishes at steady state and does not pollute a drained solution.
-  !> That is jump_full, the weight of the undrained incompressible limit;
-  !> for the adaptive size (jump_factor) each face also gets, from the face
-  !> means of the two cells' b^2/M_c, 1/M and mobility k_n/mu (k_n along
-  !> x_c2 - x_c1),
-  !>   r0 = (b^2/M_c) / (b^2/M_c + 1/M)   and   fo = c_v / h_f^2,
-  !>   c_v = (k_n/mu) / (b^2/M_c + 1/M)   (the consolidation coefficient).
-  subroutine jump_weights(self, mesh, mats, beta)
-    type(poromechanics_t), intent(inout) :: self
-    type(dist_mesh_t), intent(in) :: mesh
-    type(material_config_t), intent(in) :: mats(:)
-    real(rp), intent(in) :: beta
-    integer(ip) :: f, c1, c2, k
-    real(rp) :: x1(3), x2(3), m(2), s(2), st(2), mob(2), h, e(3)
-    allocate(self%jump_w(mesh%n_faces), self%jump_full(mesh%n_faces), self%jump_r0(mesh%n_faces), &
-             self%jump_fo(mesh%n_faces))
-    self%jump_w = 0.0_rp
-    self%jump_full = 0.0_rp
-    self%jump_r0 = 1.0_rp
-    self%jump_fo = 0.0_rp
-    self%jump_dt = -1.0_rp
-    if (beta <= 0.0_rp) return
-    do f = 1, mesh%n_faces
-      c1 = mesh%face_cells(1, f)
-      c2 = mesh%face_cells(2, f)
-      if (mesh%face_on_boundary(f) .or. c1 == 0 .or. c2 == 0) cycle
-      x1 = sum(mesh%coords(:, mesh%cell_nodes(:, c1)), dim=2) / 8.0_rp
-      x2 = sum(mesh%coords(:, mesh%cell_nodes(:, c2)), dim=2) / 8.0_rp
-      h = norm2(x1 - x2)
-      e = (x2 - x1) / h
-      do k = 1, 2
-        associate (r => mesh%cell_region(mesh%face_cells(k, f)))
-          m(k) = constrained_modulus(mats, mesh%region_names(r))
-          s(k) = self%biot(r)**2 / m(k)
-          st(k) = self%inv_m(r)
-          mob(k) = 1.0_rp / dot_product(e, matmul(self%kinv(:, :, r), e))
-        end associate
-      end do
-      self%jump_full(f) = beta * h * face_area(mesh, f) / (0.5_rp * (m(1) + m(2)))
-      if (sum(s) > 0.0_rp) then
-        self%jump_r0(f) = sum(s) / (sum(s) + sum(st))
-        self%jump_fo(f) = sum(mob) / ((sum(s) + sum(st)) * h**2)
-      else
-        self%jump_r0(f) = 0.0_rp
-      end if
-    end do
-  end subroutine jump_weights
 
-  !> The weights of a step of size dt [s] into jump_w; .true. if they changed
-  !> since the last call. Full size: jump_full. Adaptive: jump_full r^2 with
-  !>   r = r0 / (1 + dt c_v / h_f^2)
-  !>     = (b^2/M_c) / (b^2/M_c + 1/M + dt (k_n/mu) / h_f^2),
-  !> the undrained Schur complement's share of the (p, p) block of the Schur
-  !> complement (storage plus dt times the Darcy part): 1 in the undrained
-  !> step with incompressible constituents, where Q1-P0 pressures
-  !> oscillate, and towards 0 where storage (1/M) or flow (the mesh Fourier
-  !> number dt c_v / h^2) control the pressure. Without stabilization the
-  !> first-step overshoot grows with r itself (Terzaghi, E 1e8, nu 0.25,
-  !> b 1, 2 x 2 x 20 cells, the undrained step, then dt c_v / h^2 ~ 4e-3:
-  !> max p / p0 - 1 = 5.2e-3, 4.7e-3, 3.8e-3, 2.5e-3 at r0 = 1, 0.89, 0.71,
-  !> 0.46), while the full weight costs accuracy where r is small. Why r^2,
-  !> measured on Terzaghi columns (b 0.9, 20 cells, fixed dt c_v / h^2 = 0.1,
-  !> pressure relative L2 error at T = c_v t / H^2 = 0.05; without
-  !> stabilization 5.8e-4): at r0 = 0.40 (full weight 4.3x that error) r
-  !> gives 1.32x, r^2 0.72x, r^3 0.85x; at r0 = 0.67 (full 7.4x) r 4.3x,
-  !> r^2 2.4x, r^3 1.35x. In the first step above, r^2 leaves no overshoot
-  !> and a monotone profile at r0 = 0.89 (as r and the full weight), and at
-  !> r0 = 0.71 a largest rise between cells of 4.7e-4 p0 (r^3: 1.1e-3 p0,
-  !> none: 4.8e-3 p0, r: none). So r^2: the incompressible undrained end
-  !> keeps the full weight, and a step with 1/M above b^2/M_c loses no
-  !> accuracy; tests/verification/terzaghi.sh checks both ends.
-  logical function jump_factor(self, dt) result(changed)
-    type(poromechanics_t), intent(inout) :: self
-    real(rp), intent(in) :: dt
-    changed = self%jump_dt < 0.0_rp .or. (self%jump_adaptive .and. dt /= self%jump_dt)
-    if (.not. changed) return
-    self%jump_dt = dt
-    if (self%jump_adaptive) then
-      self%jump_w = self%jump_full * (self%jump_r0 / (1.0_rp + dt * self%jump_fo))**2
-    else
-      self%jump_w = self%jump_full
-    end if
-  end function jump_factor
 
   !> The (p, p) block: storage |c| / M and the stabilization J with the
   !> weights of jump_w. Collective.
@@ -309,57 +111,14 @@ contains
     associate (pp => self%sys%a(ipr, ipr))
       pp%val = 0.0_rp
       do c = 1, mesh%cell_map%n_owned
-        call pp%add_value(c, c, self%vol(c) * self%inv_m(mesh%cell_region(c)))
-        call add_jumps(self, mesh, c, pp)
+        call self%storage_row(mesh, c, pp)
       end do
       call pp%finalize_assembly()
     end associate
   end subroutine pressure_block
 
-  !> Row c (an owned cell) of the stabilization J with the weights of
-  !> jump_w, added to m (on a pattern with the cells sharing a face).
-  subroutine add_jumps(self, mesh, c, m)
-    type(poromechanics_t), intent(in) :: self
-    type(dist_mesh_t), intent(in) :: mesh
-    integer(ip), intent(in) :: c
-    type(csr_matrix_t), intent(inout) :: m
-    integer(ip) :: j, f, other
-    do j = 1, 6
-      f = mesh%cell_faces(j, c)
-      if (self%jump_w(f) == 0.0_rp) cycle
-      other = mesh%face_cells(1, f)
-      if (other == c) other = mesh%face_cells(2, f)
-      call m%add_value(c, c, self%jump_w(f))
-      call m%add_value(c, other, -self%jump_w(f))
-    end do
-  end subroutine add_jumps
 
-  real(rp) function constrained_modulus(mats, region)
-    type(material_config_t), intent(in) :: mats(:)
-    character(len=*), intent(in) :: region
-    integer :: i
-    real(rp) :: lam, mu
-    constrained_modulus = 1.0_rp
-    do i = 1, size(mats)
-      if (mats(i)%region /= region) cycle
-      call lame(mats(i)%young, mats(i)%poisson, lam, mu)
-      constrained_modulus = lam + 2.0_rp * mu
-    end do
-  end function constrained_modulus
 
-  real(rp) function face_area(mesh, f)
-    use hex_q1, only: quad_area_vector
-    use quadrature, only: gauss_quad
-    type(dist_mesh_t), intent(in) :: mesh
-    integer(ip), intent(in) :: f
-    real(rp) :: xq(2, 4), wq(4)
-    integer :: q
-    call gauss_quad(2_ip, xq, wq)
-    face_area = 0.0_rp
-    do q = 1, 4
-      face_area = face_area + wq(q) * norm2(quad_area_vector(mesh%coords(:, mesh%face_nodes(:, f)), xq(:, q)))
-    end do
-  end function face_area
 
   !> Assemble the block system and right-hand side of the step to the new
   !> time t_new with gamma = dt (0: undrained step), from the state x_old.
@@ -370,15 +129,15 @@ contains
     real(rp), intent(in) :: t_new, dt
     type(error_status_t), intent(inout) :: status
     real(rp), allocatable :: u_old(:), q_loc(:), rhs_u(:), p_old(:)
-    real(rp) :: xe(3, 8), xi(3, 8), w(8), n(8), g(3, 8), det, qe(24), ae(6, 6), be(6), b
-    integer(ip) :: c, a, q, j, dofs(24), faces(6), r, nu, nq, i, f, u0, u1, q0, q1, p0, p1
+    real(rp) :: xe(3, 8), qe(24), ae(6, 6), be(6), b
+    integer(ip) :: c, a, j, dofs(24), faces(6), r, nu, nq, i, f, u0, u1, q0, q1, p0, p1
     logical :: matrix, weights, moved, fluxed
 
     ! the matrix once (it does not change but for dt B and the stabilization
     ! of an adaptive size); the right-hand side always
     matrix = .not. self%matrix_ready
     if (matrix) call self%sys%zero()
-    weights = jump_factor(self, dt)
+    weights = self%jump_factor(dt)
     call self%sys%block_range(iu, u0, u1)
     call self%sys%block_range(iq, q0, q1)
     call self%sys%block_range(ipr, p0, p1)
@@ -402,7 +161,6 @@ contains
     p_old(1:self%pd%n_owned()) = self%x_old(p0:p1)
     call self%pd%map%import(p_old)
 
-    call gauss_hex(2_ip, xi, w)
     do c = 1, mesh%cell_map%n_owned
       xe = mesh%coords(:, mesh%cell_nodes(:, c))
       r = mesh%cell_region(c)
@@ -417,13 +175,7 @@ contains
         if (self%mech%fixed(dofs(j))) moved = moved .or. self%mech%prescribed_value(dofs(j)) /= u_old(dofs(j))
       end do
       if (matrix .or. moved) then
-        qe = 0.0_rp
-        do q = 1, 8
-          call hex_gradients(xe, xi(:, q), n, g, det)
-          do a = 1, 8
-            qe(3*a-2:3*a) = qe(3*a-2:3*a) + b * g(:, a) * det * w(q)
-          end do
-        end do
+        call cell_coupling(xe, b, qe)
         do j = 1, 24
           if (self%mech%fixed(dofs(j))) then
             ! known displacement: Q^T column to the right-hand side (its change over the step)
@@ -443,12 +195,8 @@ contains
         if (self%q_fixed(faces(j))) fluxed = fluxed .or. flux_value(faces(j)) /= 0.0_rp
       end do
       if (matrix .or. fluxed) then
-        call rt0_cell_mass(xe, self%kinv(:, :, r), ae, status)
+        call cell_darcy(xe, self%kinv(:, :, r), mesh%cell_face_sign(:, c), ae, be, status)
         if (.not. status%ok()) return
-        call rt0_cell_divergence(xe, be, status)
-        if (.not. status%ok()) return
-        call rt0_orient(mesh%cell_face_sign(:, c), ae)
-        call rt0_orient(mesh%cell_face_sign(:, c), be)
       end if
       do j = 1, 6
         f = faces(j)
@@ -497,18 +245,10 @@ contains
     !> Prescribed flux through local face f at t_new [m^3/s].
     real(rp) function flux_value(f)
       integer(ip), intent(in) :: f
-      flux_value = prescribed_flux(self, f, t_new)
+      flux_value = self%prescribed_flux(f, t_new)
     end function flux_value
   end subroutine assemble
 
-  !> Prescribed flux through local face f at time t [m^3/s].
-  real(rp) function prescribed_flux(self, f, t)
-    type(poromechanics_t), intent(in) :: self
-    integer(ip), intent(in) :: f
-    real(rp), intent(in) :: t
-    prescribed_flux = self%q_value(f)
-    if (self%face_bc(f) > 0) prescribed_flux = prescribed_flux * self%bcs(self%face_bc(f))%factor(t)
-  end function prescribed_flux
 
   !> Rows of prescribed fluxes: a scaled identity (the mean diagonal of the
   !> free rows of A) with the flux at t_new on the right-hand side.
@@ -535,7 +275,7 @@ contains
       if (.not. self%q_fixed(f)) cycle
       k = self%sys%a(iq, iq)%find(f, f)
       self%sys%a(iq, iq)%val(k) = self%a_scale
-      self%rhs(q0 + f - 1) = self%a_scale * prescribed_flux(self, f, t_new)
+      self%rhs(q0 + f - 1) = self%a_scale * self%prescribed_flux(f, t_new)
     end do
   end subroutine prescribed_flux_rows
 
@@ -582,7 +322,7 @@ contains
     do c = 1, mesh%cell_map%n_owned
       r = mesh%cell_region(c)
       call s%add_value(c, c, self%vol(c) * (self%inv_m(r) + self%biot(r)**2 / self%kdr(r)))
-      call add_jumps(self, mesh, c, s)
+      call self%add_jumps(mesh, c, s)
       if (dt <= 0.0_rp) cycle
       do j = 1, 6
         f = mesh%cell_faces(j, c)
@@ -666,7 +406,7 @@ contains
           end do
         end do
       end do
-      call add_jumps(self, mesh, c, s)
+      call self%add_jumps(mesh, c, s)
       do j = 1, 6
         f = mesh%cell_faces(j, c)
         if (dt <= 0.0_rp .or. self%q_fixed(f)) cycle
@@ -680,21 +420,6 @@ contains
     call s%finalize_assembly()
   end subroutine algebraic_schur
 
-  !> Darcy velocity at the centre of each owned cell [m/s] from the fluxes
-  !> q_loc (all local faces, ghosts up to date).
-  subroutine cell_velocity(self, mesh, q_loc, v)
-    class(poromechanics_t), intent(in) :: self
-    type(dist_mesh_t), intent(in) :: mesh
-    real(rp), intent(in) :: q_loc(:)
-    real(rp), intent(out) :: v(:,:)
-    real(rp) :: psi(3, 6), divv(6), det, qf(6)
-    integer(ip) :: c
-    do c = 1, mesh%cell_map%n_owned
-      call rt0_values(mesh%coords(:, mesh%cell_nodes(:, c)), [0.0_rp, 0.0_rp, 0.0_rp], psi, divv, det)
-      qf = q_loc(mesh%cell_faces(:, c)) * real(mesh%cell_face_sign(:, c), rp)
-      v(:, c) = matmul(psi, qf)
-    end do
-  end subroutine cell_velocity
 
   subroutine free(self)
     class(poromechanics_t), intent(inout) :: self
@@ -703,13 +428,7 @@ contains
     call self%qd%free()
     call self%pd%free()
     if (allocated(self%rhs)) deallocate(self%rhs, self%x, self%x_old)
-    if (allocated(self%biot)) deallocate(self%biot, self%inv_m, self%kdr, self%kinv)
-    if (allocated(self%vol)) deallocate(self%vol)
-    if (allocated(self%src_rate)) deallocate(self%src_rate)
-    if (allocated(self%q_fixed)) deallocate(self%q_fixed, self%q_value, self%p_face, self%p_bc, self%face_bc)
-    if (allocated(self%bcs)) deallocate(self%bcs)
-    if (allocated(self%a_norm)) deallocate(self%a_norm)
-    if (allocated(self%jump_w)) deallocate(self%jump_w, self%jump_full, self%jump_r0, self%jump_fo)
+    call self%free_media()
     self%matrix_ready = .false.
   end subroutine free
 end module poromechanics

@@ -3,6 +3,7 @@
 !> physics is built as a list of components (coupled_simulation.f90):
 !>   'contact'       = [mechanics, interface contact]
 !>   'fracture_flow' = [mechanics, interface contact, fracture flow]
+!>   'poromechanics_faults' = [mechanics, matrix flow, interface contact, fracture flow]
 module simulation_factory
   use error_status, only: error_status_t
   use simulation, only: simulation_t, foreign_len
@@ -12,6 +13,7 @@ module simulation_factory
   use mechanics_component, only: mechanics_component_t
   use interface_contact, only: interface_contact_t
   use fracture_flow_component, only: fracture_flow_component_t
+  use matrix_flow_component, only: matrix_flow_component_t
   use coupled_simulation, only: coupled_simulation_t
   implicit none
   private
@@ -19,11 +21,12 @@ module simulation_factory
   public :: make_simulation, physics_names
 
   !> The valid names, for messages.
-  character(len=*), parameter :: physics_names = "'elasticity', 'biot', 'contact', 'fracture_flow'"
+  character(len=*), parameter :: physics_names = "'elasticity', 'biot', 'contact', 'fracture_flow', "// &
+                                             "'poromechanics_faults'"
 
   !> The components a composition can have, in the order of their rows.
-  character(len=*), parameter :: component_kinds(3) = [character(len=13) :: 'mechanics', 'contact', &
-                                                        'fracture_flow']
+  character(len=*), parameter :: component_kinds(4) = [character(len=13) :: 'mechanics', 'matrix_flow', &
+                                                        'contact', 'fracture_flow']
 
 contains
 
@@ -46,6 +49,9 @@ contains
       call compose(sim, 'contact', [character(len=13) :: 'mechanics', 'contact'])
     case ('fracture_flow')
       call compose(sim, 'fracture_flow', [character(len=13) :: 'mechanics', 'contact', 'fracture_flow'])
+    case ('poromechanics_faults')
+      call compose(sim, 'poromechanics_faults', [character(len=13) :: 'mechanics', 'matrix_flow', 'contact', &
+                                                 'fracture_flow'])
     case default
       call status%set("unknown physics '"//trim(name)//"' (valid: "//physics_names//")")
     end select
@@ -88,6 +94,8 @@ contains
       allocate(interface_contact_t :: c)
     case ('fracture_flow')
       allocate(fracture_flow_component_t :: c)
+    case ('matrix_flow')
+      allocate(matrix_flow_component_t :: c)
     end select
     c%kind = kind
   end subroutine make_component
