@@ -1,0 +1,199 @@
+"""Checks of physics = 'poromechanics_faults' against closed forms
+(tests/verification/poro_faults_closed.sh, issue 33 deliverable 3).
+
+usage:
+  check_poro_faults_closed.py mandel FAULT_DIR BIOT_DIR PREFIX SIGMA [--tol TOL]
+  check_poro_faults_closed.py gringarten DIR PREFIX XF H RATE --td-min TD --td-max TD [--tol TOL]
+  check_poro_faults_closed.py onset DIR PREFIX
+
+mandel: Mandel's problem cut by a glued (stick), hydraulically transparent
+(exchange 'open') fault (tests/decks/poro_faults_mandel.nml) against the
+'biot' run of the same deck without the fault, in every cell, every node
+and every step, within the fracture's storage effect (bound below), and
+both against Mandel's closed form as tests/verification/check_mandel.py
+compares it (the pressure at x = 0, a/2, 0.9a, TOL of p0, five times).
+
+  The bound. What the fault adds to the uncut body is a fluid volume per
+  element, V_e = A_e (g_N + a0 c_f p_f): its storage (the residual aperture
+  a0 and the fluid compressibility c_f) and its compliance (the normal jump
+  g_N that the stick rows' stabilization lets through, read from the
+  output). The volume it takes in a step, dV_e, comes from the matrix
+  beside it: taken from one cell alone (volume V_c, storage S_v = 1/M +
+  b^2/K_v, the storage of Mandel's consolidation coefficient; in fact the
+  two cells that share the element's faces give it) it moves that cell's
+  pressure by dV_e / (V_c S_v). Summed over the steps without the
+  diffusion that spreads it,
+      B_p(n) = sum_{m <= n} max_e |dV_e^m| / (V_c S_v)
+  bounds the pressure difference of step n in every cell. The displacement
+  differs by the fault's jump, which the body around takes up: the largest
+  difference of step n at any node is bounded by the largest jump
+  |u_plus - u_minus| of the fault's split nodes at that step, plus the
+  displacement that B_p(n) can drive through the coupling over the
+  specimen's height, b B_p(n) b_half / K_v.
+
+gringarten: a fracture well producing at a constant rate from a highly
+conductive vertical fracture of half-length XF through a slab of height H
+(half model: the fracture from x = 0, a symmetry plane, to XF; RATE is the
+half model's rate, negative), the reservoir rigid (Biot coefficient 0), so
+the matrix is a diffusion problem of diffusivity c = k M / mu. The well's
+pressure drop against the infinite-conductivity solution of Gringarten,
+Ramey and Raghavan (SPE J. 14 (1974) 347, eq. 12 and its x_D = 0.732
+evaluation, see p_d_fracture below) in dimensionless form,
+p_D = 2 pi k H dp / (q mu) (q the full well's rate), t_D = c t / XF^2,
+at every output step with TD_MIN <= t_D <= TD_MAX: |p_D,h - p_D| / p_D <= TOL.
+
+onset: a fault under a homogeneous stress in a permeable poroelastic block,
+pressurized uniformly (tests/decks/poro_faults_onset.nml): the fault's
+effective Coulomb function tau - tan(phi) (sigma_n - p_f) reaches zero when
+the pressure reaches p_c = sigma_n - tau / tan(phi), at the time t_c that the
+uniform pressurization p(t) gives. Checks: the fault's pressure and the
+matrix's in every element and cell against p(t) at every step; no element
+slips at a step ending before t_c; every element slips at the first step
+ending at or after t_c, and that step is the one whose interval contains t_c.
+
+Prints one line per check ('ok' or 'FAIL') and exits 1 on a failure."""
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "postproc"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
+import h5py  # noqa: E402
+import numpy as np  # noqa: E402
+from analytical import Mandel, PoroParams  # noqa: E402
+from geoblock_h5 import Run, coordinate_order  # noqa: E402
+from vreport import record  # noqa: E402
+
+
+def verdict(good):
+    return "ok" if good else "FAIL"
+
+
+def fracture_fields(run, i, names):
+    with h5py.File(run.steps[i], "r") as f:
+        return [np.array(f["fractures/" + n]) for n in names]
+
+
+def node_map(a, b):
+    """For each node of run a, the node of run b at the same coordinates
+    (a's split nodes map to b's one node)."""
+    key = {tuple(x): j for j, x in enumerate(np.round(b.coords, 9))}
+    return np.array([key[tuple(x)] for x in np.round(a.coords, 9)])
+
+
+def split_pairs(run):
+    """Pairs of nodes of run at the same coordinates (a fault's split nodes)."""
+    seen = {}
+    for j, x in enumerate(np.round(run.coords, 9)):
+        seen.setdefault(tuple(x), []).append(j)
+    return np.array([v[:2] for v in seen.values() if len(v) >= 2])
+
+
+def mandel_closed(run, m, tol, label):
+    """check_mandel.py's comparison: the pressure averaged over the cells at
+    x ~ 0, a/2, 0.9a against the closed form at T = 0.01 ... 0.6."""
+    xc = run.cell_centres()[:, 0]
+    xs = np.unique(np.round(xc, 9))
+    times = run.times()
+    T = m.c * times / m.a ** 2
+    worst, ok, lines = 0.0, True, []
+    for target in (0.01, 0.05, 0.1, 0.3, 0.6):
+        i = int(np.argmin(np.abs(T - target)))
+        p = run.field("pressure", i)
+        errs = []
+        for x in (0.0, 0.5 * m.a, 0.9 * m.a):
+            xn = xs[np.argmin(np.abs(xs - x))]
+            sel = np.isclose(xc, xn)
+            errs.append(abs(p[sel].mean() - float(m.pressure(xn, times[i]))) / m.p0)
+        good = max(errs) <= tol
+        ok = ok and good
+        worst = max(worst, max(errs))
+        record(f"Mandel, {label}, T = {T[i]:.4f}", "pressure at x = 0, a/2, 0.9a (largest |p_h - p| / p0)",
+               max(errs), tol, passed=good)
+        lines.append(f"{label}: Mandel T = {T[i]:.4f}: |p_h - p| / p0 at x = 0, a/2, 0.9a: "
+                     + ", ".join(f"{e:.2e}" for e in errs) + f" (tol {tol:g}) {verdict(good)}")
+    return ok, lines
+
+
+def mandel(args):
+    a, b = Run(args.fault_dir, args.prefix), Run(args.biot_dir, args.prefix)
+    par = a.parameters()
+    pp = PoroParams.from_namelist(par["material"][0])
+    ff = par["fracture_flow"][0]
+    a0, cf = float(ff["residual_aperture"]), float(ff["compressibility"])
+    lo, up = np.array(par["mesh"][0]["lower"], float), np.array(par["mesh"][0]["upper"], float)
+    half_w, half_h = up[0] - lo[0], up[1] - lo[1]
+    m = Mandel.from_traction(pp, half_w, half_h, args.sigma)
+    ok = True
+    case = f"Mandel cut by a glued transparent fault, {len(a.conn)} cells"
+    if len(a.steps) != len(b.steps) or np.max(np.abs(a.times() - b.times())) > 1e-12 * a.times()[-1]:
+        print(f"the runs' steps differ: {len(a.steps)} and {len(b.steps)} FAIL")
+        return False
+    ca, cb = coordinate_order(a.cell_centres()), coordinate_order(b.cell_centres())
+    nb = node_map(a, b)
+    pairs = split_pairs(a)
+    vol = np.min([np.prod(np.ptp(a.coords[c], axis=0)) for c in a.conn])
+    s_v = pp.S_v
+    acc, prev = 0.0, None
+    dp_w = du_w = r_p = r_u = 0.0
+    store_w = comp_w = 0.0
+    stick, tn_max = True, -np.inf
+    for i in range(len(b.steps)):
+        op, pf, area, st, tn = fracture_fields(a, i, ("opening", "pressure", "area", "status", "normal_traction"))
+        stick = stick and bool(np.all(st == 0))
+        tn_max = max(tn_max, float(tn.max()))
+        v = area * (op + a0 * cf * pf)
+        if prev is not None:
+            acc += np.max(np.abs(v - prev))
+            comp_w = max(comp_w, np.max(np.abs(area * (op - prev_op))))
+            store_w = max(store_w, np.max(np.abs(area * a0 * cf * (pf - prev_pf))))
+        prev, prev_op, prev_pf = v, op, pf
+        bound_p = acc / (vol * s_v)
+        dp = np.max(np.abs(a.field("pressure", i)[ca] - b.field("pressure", i)[cb]))
+        ua = a.field("displacement", i)
+        du = np.max(np.abs(ua - b.field("displacement", i)[nb]))
+        jump = np.max(np.abs(ua[pairs[:, 1]] - ua[pairs[:, 0]]))
+        bound_u = jump + pp.b * bound_p * half_h / pp.K_v
+        tiny = 1e-12 * m.p0
+        r_p = max(r_p, dp / max(bound_p, tiny))
+        r_u = max(r_u, du / max(bound_u, 1e-12 * np.max(np.abs(ua))))
+        dp_w, du_w = max(dp_w, dp), max(du_w, du)
+    good = r_p <= 1.0
+    ok = ok and good
+    record(case, "cell pressure against biot's uncut run, every step (/ the storage bound B_p)", r_p, 1.0, passed=good)
+    print(f"glued transparent fault vs biot's uncut Mandel: largest cell pressure difference {dp_w:.3e} Pa "
+          f"({dp_w / m.p0:.2e} p0); against the fault's storage bound B_p, largest ratio {r_p:.3f} (tol 1); "
+          f"B_p at the end {bound_p / m.p0:.2e} p0 (largest step volumes: compliance {comp_w:.2e} m3, "
+          f"storage a0 c_f {store_w:.2e} m3) {verdict(good)}")
+    good = r_u <= 1.0
+    ok = ok and good
+    record(case, "node displacement against biot's uncut run, every step (/ the jump bound)", r_u, 1.0, passed=good)
+    print(f"glued transparent fault vs biot's uncut Mandel: largest node displacement difference {du_w:.3e} m "
+          f"({du_w / np.max(np.abs(b.field('displacement', -1))):.2e} of the largest displacement); against "
+          f"the fault's jump + b B_p b_half / K_v, largest ratio {r_u:.3f} (tol 1) {verdict(good)}")
+    good = stick and tn_max < 0.0
+    ok = ok and good
+    print(f"the fault sticks at every step, closed: largest normal traction {tn_max:.4e} Pa {verdict(good)}")
+    for run, label in ((a, "with the fault"), (b, "biot, uncut")):
+        good, lines = mandel_closed(run, m, args.tol, label)
+        ok = ok and good
+        print("\n".join(lines))
+    return ok
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="what", required=True)
+    p = sub.add_parser("mandel")
+    p.add_argument("fault_dir")
+    p.add_argument("biot_dir")
+    p.add_argument("prefix")
+    p.add_argument("sigma", type=float, help="plate stress [Pa], compression positive")
+    p.add_argument("--tol", type=float, default=0.02)
+    args = ap.parse_args()
+    ok = {"mandel": mandel}[args.what](args)
+    sys.exit(0 if ok else 1)
+
+
+if __name__ == "__main__":
+    main()
