@@ -3,7 +3,7 @@
 
 usage:
   check_poro_faults_closed.py mandel FAULT_DIR BIOT_DIR PREFIX SIGMA [--tol TOL]
-  check_poro_faults_closed.py gringarten DIR PREFIX XF H RATE --td-min TD --td-max TD [--tol TOL]
+  check_poro_faults_closed.py gringarten DIR PREFIX --td-min TD --td-max TD [--tol TOL]
   check_poro_faults_closed.py onset DIR PREFIX
 
 mandel: Mandel's problem cut by a glued (stick), hydraulically transparent
@@ -31,16 +31,18 @@ compares it (the pressure at x = 0, a/2, 0.9a, TOL of p0, five times).
   displacement that B_p(n) can drive through the coupling over the
   specimen's height, b B_p(n) b_half / K_v.
 
-gringarten: a fracture well producing at a constant rate from a highly
-conductive vertical fracture of half-length XF through a slab of height H
-(half model: the fracture from x = 0, a symmetry plane, to XF; RATE is the
-half model's rate, negative), the reservoir rigid (Biot coefficient 0), so
-the matrix is a diffusion problem of diffusivity c = k M / mu. The well's
-pressure drop against the infinite-conductivity solution of Gringarten,
-Ramey and Raghavan (SPE J. 14 (1974) 347, eq. 12 and its x_D = 0.732
-evaluation, see p_d_fracture below) in dimensionless form,
-p_D = 2 pi k H dp / (q mu) (q the full well's rate), t_D = c t / XF^2,
-at every output step with TD_MIN <= t_D <= TD_MAX: |p_D,h - p_D| / p_D <= TOL.
+gringarten: a well producing at a constant rate from a highly conductive
+vertical fracture through a slab (tests/decks/poro_faults_frac_well.nml;
+half model: the fracture on y = 0 from x = 0, a symmetry plane, to its tip
+x_f; the deck's &well rate is the half model's), the reservoir rigid (Biot
+coefficient 0: the matrix is a diffusion problem of diffusivity
+c = k M / mu). The well's pressure drop, in Gringarten, Ramey and
+Raghavan's dimensionless form p_D = 2 pi k H dp / (q mu) (q the whole
+well's rate, H the slab's height) at t_D = c t / x_f^2, against their
+infinite-conductivity vertical fracture (see p_d_infinite_conductivity) at
+every step with TD_MIN <= t_D <= TD_MAX: |p_D,h / p_D - 1| <= TOL. The
+solution itself is checked first: its uniform-flux form against the
+closed form (p_d_uniform_flux) to 1e-5, its early and late limits.
 
 onset: a fault under a homogeneous stress in a permeable poroelastic block,
 pressurized uniformly (tests/decks/poro_faults_onset.nml): the fault's
@@ -58,10 +60,14 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "postproc"))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
+import csv  # noqa: E402
+from math import factorial, log  # noqa: E402
+
 import h5py  # noqa: E402
 import numpy as np  # noqa: E402
+from scipy.special import erf, exp1, iti0k0  # noqa: E402
 from analytical import Mandel, PoroParams  # noqa: E402
-from geoblock_h5 import Run, coordinate_order  # noqa: E402
+from geoblock_h5 import Run, coordinate_order, read_parameters  # noqa: E402
 from vreport import record  # noqa: E402
 
 
@@ -181,6 +187,132 @@ def mandel(args):
     return ok
 
 
+# -- Gringarten, Ramey and Raghavan (1974): "Unsteady-state pressure
+# distributions created by a well with a single infinite-conductivity
+# vertical fracture", SPE Journal 14 (4), 347-360. Dimensionless
+# variables: x_D = x / x_f, t_D = c t / x_f^2, p_D = 2 pi k H dp / (q mu).
+
+def p_d_uniform_flux(td, xd=0.0):
+    """Their uniform-flux fracture (eq. 12) at x_D along it:
+    p_D = sqrt(pi t_D)/2 [erf((1 + x_D)/(2 sqrt t_D)) + erf((1 - x_D)/(2 sqrt t_D))]
+          - (1 + x_D)/4 Ei(-(1 + x_D)^2/(4 t_D)) - (1 - x_D)/4 Ei(-(1 - x_D)^2/(4 t_D)),
+    with -Ei(-u) = E1(u). At x_D = 0.732 their approximation of the
+    infinite-conductivity fracture."""
+    td = np.asarray(td, dtype=float)
+    r = 2.0 * np.sqrt(td)
+    return (0.5 * np.sqrt(np.pi * td) * (erf((1 + xd) / r) + erf((1 - xd) / r))
+            + 0.25 * (1 + xd) * exp1((1 + xd) ** 2 / (4 * td)) + 0.25 * (1 - xd) * exp1((1 - xd) ** 2 / (4 * td)))
+
+
+def _stehfest(n=12):
+    """Stehfest's weights V_i (Comm. ACM 13 (1970) 47)."""
+    h = n // 2
+    v = np.zeros(n)
+    for i in range(1, n + 1):
+        v[i - 1] = (-1) ** (i + h) * sum(k ** h * factorial(2 * k) / (factorial(h - k) * factorial(k) * factorial(k - 1)
+                                         * factorial(i - k) * factorial(2 * k - i))
+                                         for k in range((i + 1) // 2, min(i, h) + 1))
+    return v
+
+
+_V = _stehfest()
+
+
+def _invert(fbar, td):
+    a = log(2.0) / td
+    return a * sum(v * fbar((i + 1) * a) for i, v in enumerate(_V))
+
+
+def _k0_segments(x, edges, s):
+    """int over each segment [e_j, e_j+1] of K0(sqrt(s) |x_i - x'|) dx'."""
+    r = np.sqrt(s)
+    ik = np.vectorize(lambda u: iti0k0(u)[1])          # int_0^u K0
+    a = edges[None, :-1] - x[:, None]
+    b = edges[None, 1:] - x[:, None]
+    return (np.sign(b) * ik(r * np.abs(b)) - np.sign(a) * ik(r * np.abs(a))) / r
+
+
+def _pbar_infinite_conductivity(s, n=60):
+    """Laplace transform of the well's p_D: the fracture -1 < x_D < 1 as n
+    segments per wing (finer at the tip) of unknown flux density f_j, the
+    pressure of a continuous line source of unit rate being (1/2) E1(r^2/(4 t_D)),
+    K0(r sqrt s) / s in Laplace space: the same pressure p_w at every segment's
+    centre, the fluxes summing to the rate (1/s)."""
+    e = np.sin(np.linspace(0.0, 0.5 * np.pi, n + 1))
+    xc, w = 0.5 * (e[1:] + e[:-1]), np.diff(e)
+    a = np.zeros((n + 1, n + 1))
+    a[:n, :n] = _k0_segments(xc, e, s) + _k0_segments(-xc, e, s)   # both wings
+    a[:n, n] = -1.0
+    a[n, :n] = 2.0 * w
+    rhs = np.zeros(n + 1)
+    rhs[n] = 1.0 / s
+    return np.linalg.solve(a, rhs)[n]
+
+
+def p_d_infinite_conductivity(td):
+    """Their infinite-conductivity fracture, the well's p_D(t_D): the
+    uniform pressure along the fracture and the flux it draws solved in
+    Laplace space (_pbar_infinite_conductivity), inverted by Stehfest's
+    algorithm (12 terms)."""
+    return np.array([_invert(_pbar_infinite_conductivity, t) for t in np.atleast_1d(td)])
+
+
+def solution_self_check():
+    """The Laplace solution and the inversion against the uniform-flux closed
+    form (the same kernel with a uniform flux) and the limits: linear flow
+    sqrt(pi t_D) early, pseudo-radial 0.5 (ln t_D + 2.2) late."""
+    def uf(s, xd):
+        return 0.5 / s * _k0_segments(np.array([xd]), np.array([-1.0, 1.0]), s)[0, 0]
+    tds = [1e-3, 1e-2, 0.1, 1.0, 10.0]
+    e_uf = max(abs(_invert(lambda s: uf(s, 0.732), t) / p_d_uniform_flux(t, 0.732) - 1) for t in tds)
+    early = abs(p_d_infinite_conductivity(1e-4)[0] / np.sqrt(np.pi * 1e-4) - 1)
+    late = abs(p_d_infinite_conductivity(1e3)[0] / (0.5 * (np.log(1e3) + 2.2)) - 1)
+    good = e_uf <= 1e-5 and early <= 0.01 and late <= 0.002
+    print(f"infinite-conductivity solution (Laplace, Stehfest): its uniform-flux form against the closed form "
+          f"{e_uf:.1e} (tol 1e-5); p_D / sqrt(pi t_D) - 1 at t_D = 1e-4: {early:.1e} (tol 0.01), "
+          f"p_D / (0.5 (ln t_D + 2.2)) - 1 at t_D = 1e3: {late:.1e} (tol 0.002) {verdict(good)}")
+    return good
+
+
+def gringarten(args):
+    ok = solution_self_check()
+    run = args.dir
+    par = read_parameters(os.path.join(run, args.prefix + "_parameters.nml"))
+    mat, mesh = par["material"][0], par["mesh"][0]
+    k, mu, m_b = float(mat["permeability"]), float(mat["viscosity"]), float(mat["biot_modulus"])
+    c = k * m_b / mu
+    h = float(mesh["upper"][2]) - float(mesh["lower"][2])
+    xf = float(par["fault"][0]["upper"][0])
+    well = par["well"][0]
+    q = 2.0 * abs(float(well["rate"]))                  # the half model's rate, doubled
+    with open(os.path.join(run, args.prefix + "_probes.csv")) as f:
+        rows = list(csv.DictReader(f))
+    t = np.array([float(r["time [s]"]) for r in rows])
+    dp = -np.array([float(r[well["name"] + ":pressure [Pa]"]) for r in rows])
+    td = c * t / xf ** 2
+    sel = (td >= args.td_min * (1 - 1e-9)) & (td <= args.td_max * (1 + 1e-9))
+    pd_h = 2.0 * np.pi * k * h * dp[sel] / (q * mu)
+    pd = p_d_infinite_conductivity(td[sel])
+    err = np.abs(pd_h / pd - 1.0)
+    worst = int(np.argmax(err))
+    good = sel.sum() >= 10 and err.max() <= args.tol
+    ok = ok and good
+    case = f"well in an infinite-conductivity fracture (F_CD {float(par['fracture_flow'][0]['residual_aperture']) ** 3 / (12 * k * xf):.2g}), rigid reservoir"
+    record(case, f"well pressure p_D against Gringarten et al. (1974), {sel.sum()} steps, t_D {td[sel][0]:.2g} - "
+           f"{td[sel][-1]:.3g} (largest relative error)", float(err.max()), args.tol, passed=good)
+    print(f"well pressure against the infinite-conductivity fracture at {sel.sum()} steps, t_D = {td[sel][0]:.3g} to "
+          f"{td[sel][-1]:.3g}: largest |p_D,h / p_D - 1| {err.max():.2e} at t_D = {td[sel][worst]:.3g} "
+          f"(p_D,h {pd_h[worst]:.4f}, p_D {pd[worst]:.4f}) (tol {args.tol:g}) {verdict(good)}")
+    # the flow regimes the checked range crosses (figures of the run)
+    lin = pd_h[0] / np.sqrt(np.pi * td[sel][0])
+    slope_early = np.log(pd_h[1] / pd_h[0]) / np.log(td[sel][1] / td[sel][0])
+    slope_late = (pd_h[-1] - pd_h[-2]) / np.log(td[sel][-1] / td[sel][-2])
+    print(f"flow regimes: at t_D = {td[sel][0]:.3g} p_D,h / sqrt(pi t_D) = {lin:.3f} and d ln p_D / d ln t_D = "
+          f"{slope_early:.3f} (linear flow: 1, 0.5); at t_D = {td[sel][-1]:.3g} d p_D / d ln t_D = {slope_late:.3f} "
+          f"(pseudo-radial flow: 0.5)")
+    return ok
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="what", required=True)
@@ -190,8 +322,14 @@ def main():
     p.add_argument("prefix")
     p.add_argument("sigma", type=float, help="plate stress [Pa], compression positive")
     p.add_argument("--tol", type=float, default=0.02)
+    p = sub.add_parser("gringarten")
+    p.add_argument("dir")
+    p.add_argument("prefix")
+    p.add_argument("--td-min", type=float, required=True)
+    p.add_argument("--td-max", type=float, required=True)
+    p.add_argument("--tol", type=float, default=0.03)
     args = ap.parse_args()
-    ok = {"mandel": mandel}[args.what](args)
+    ok = {"mandel": mandel, "gringarten": gringarten}[args.what](args)
     sys.exit(0 if ok else 1)
 
 

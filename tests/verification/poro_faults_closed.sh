@@ -51,5 +51,13 @@ run mandel_biot 1 || ko "Mandel, biot's uncut run, see $out/mandel_biot.log"
 r=$($PY $CHECK mandel "$out/mandel_fault" "$out/mandel_biot" mandel 2e6 2>&1); rc=$?
 lines $rc "$r" "Mandel with a glued fault"
 
+# 2. the fracture well against Gringarten, Ramey and Raghavan (1974), from
+# early linear flow (t_D = 2e-3) to pseudo-radial flow (t_D = 10; the
+# domain's edge, 30 x_f away, is not felt by then)
+deck well tests/decks/poro_faults_frac_well.nml
+if run well 1; then ok "fracture well run"; else ko "fracture well run, see $out/well.log"; fi
+r=$($PY $CHECK gringarten "$out/well" well --td-min 2e-3 --td-max 10 --tol 0.03 2>&1); rc=$?
+lines $rc "$r" "fracture well"
+
 echo "poro_faults_closed: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
