@@ -4,7 +4,7 @@
 usage:
   check_poro_faults_closed.py mandel FAULT_DIR BIOT_DIR PREFIX SIGMA [--tol TOL]
   check_poro_faults_closed.py gringarten DIR PREFIX --td-min TD --td-max TD [--tol TOL]
-  check_poro_faults_closed.py onset DIR PREFIX
+  check_poro_faults_closed.py onset DIR PREFIX [--tol TOL]
 
 mandel: Mandel's problem cut by a glued (stick), hydraulically transparent
 (exchange 'open') fault (tests/decks/poro_faults_mandel.nml) against the
@@ -226,7 +226,9 @@ def _invert(fbar, td):
 def _k0_segments(x, edges, s):
     """int over each segment [e_j, e_j+1] of K0(sqrt(s) |x_i - x'|) dx'."""
     r = np.sqrt(s)
-    ik = np.vectorize(lambda u: iti0k0(u)[1])          # int_0^u K0
+
+    def ik(u):                                          # int_0^u K0 (a ufunc)
+        return iti0k0(u)[1]
     a = edges[None, :-1] - x[:, None]
     b = edges[None, 1:] - x[:, None]
     return (np.sign(b) * ik(r * np.abs(b)) - np.sign(a) * ik(r * np.abs(a))) / r
@@ -313,6 +315,83 @@ def gringarten(args):
     return ok
 
 
+def onset(args):
+    run = Run(args.dir, args.prefix)
+    par = run.parameters()
+    pp = PoroParams.from_namelist(par["material"][0])
+    sig = np.zeros(3)                                   # the homogeneous total stress (tension > 0)
+    for bc in par["boundary"]:
+        if bc.get("type") == "traction":
+            t = np.asarray(bc["traction"], dtype=float)
+            k = int(np.argmax(np.abs(t)))
+            sig[k] = t[k]
+    fault = par["fault"][0]
+    dip = np.radians(float(fault["dip"]))
+    n = np.array([-np.sin(dip), 0.0, np.cos(dip)])       # normal z, dipping along x
+    tv = sig * n
+    s_n = -float(tv @ n)                                # compression positive
+    tau = float(np.linalg.norm(tv - (tv @ n) * n))
+    coh, mu_f = float(fault.get("cohesion", 0.0)), np.tan(np.radians(float(fault["friction_angle"])))
+    p_c = s_n - (tau - coh) / mu_f
+    # undrained start: p_u = -B tr(sigma)/3; then, the total stress fixed, the
+    # pressure rises uniformly: Q dt = (V (1/M + b^2/K) + A a0 c_f) dp
+    p_u = -pp.B * sig.sum() / 3.0
+    lo, up = np.array(par["mesh"][0]["lower"], float), np.array(par["mesh"][0]["upper"], float)
+    vol = float(np.prod(up - lo))
+    ff = par["fracture_flow"][0]
+    area = fracture_fields(run, 0, ("area",))[0].sum()
+    store = vol * (pp.inv_M + pp.b ** 2 / pp.K_dr) + area * float(ff["residual_aperture"]) * float(ff["compressibility"])
+    q = float(par["well"][0]["rate"])
+    t_c = (p_c - p_u) * store / q
+    times = run.times()
+    dt = float(np.min(np.diff(times)))
+    rise = q * dt / store                               # the pressure's rise in a step
+    ok = True
+    print(f"fault: sigma_n {s_n:.6e} Pa, tau {tau:.6e} Pa, cohesion {coh:.3g} Pa, tan(phi) {mu_f:.4f}: "
+          f"p_c = {p_c:.6e} Pa; p_u = {p_u:.6e} Pa, dp/dt = {q / store:.6e} Pa/s: t_c = {t_c:.4f} s")
+    first = None
+    e_p = e_c = 0.0
+    early = []
+    for i, t in enumerate(times):
+        st, pf, cff = fracture_fields(run, i, ("status", "pressure", "cff"))
+        if first is None:
+            p_ex = p_u + q * t / store
+            e_p = max(e_p, np.max(np.abs(run.field("pressure", i) - p_ex)), np.max(np.abs(pf - p_ex)))
+            if np.all(st == 0):
+                e_c = max(e_c, np.max(np.abs(cff - (tau - coh - mu_f * (s_n - p_ex)))))
+        if np.any(st != 0):
+            if t < t_c:
+                early.append(i)
+            if first is None:
+                first = i
+                n_slip, n_el = int(np.sum(st == 1)), len(st)
+    case = f"injection into a fault until it slips, {len(run.conn)} cells, {len(st)} elements"
+    good = e_p <= args.tol * rise
+    ok = ok and good
+    record(case, "pressure of every cell and element against the uniform rise, every step to the onset "
+           "(/ a step's rise)", e_p / rise, args.tol, passed=good)
+    print(f"pressure of every cell and fault element against p_u + Q t / (V S + A a0 c_f), steps 0 to the onset: "
+          f"largest error {e_p:.3e} Pa = {e_p / rise:.2e} of a step's rise {rise:.4e} Pa (tol {args.tol:g}) {verdict(good)}")
+    good = e_c <= args.tol * mu_f * rise
+    ok = ok and good
+    record(case, "Coulomb function of every element against tau - c - tan(phi) (sigma_n - p), every stick step "
+           "(/ tan(phi) a step's rise)", e_c / (mu_f * rise), args.tol, passed=good)
+    print(f"Coulomb function (output cff) of every element against tau - c - tan(phi) (sigma_n - p(t)), stick steps: "
+          f"largest error {e_c:.3e} Pa = {e_c / (mu_f * rise):.2e} of tan(phi) x a step's rise (tol {args.tol:g}) "
+          f"{verdict(good)}")
+    if first is None:
+        print(f"no element slips up to t = {times[-1]:.4g} s (t_c = {t_c:.4f} s) FAIL")
+        return False
+    good = not early and times[first - 1] < t_c <= times[first] and n_slip == n_el
+    ok = ok and good
+    record(case, "onset of slip: the step after t_c's (steps; 0 when it contains t_c)",
+           first - int(np.searchsorted(times, t_c)), 0, passed=good)
+    print(f"onset: no element slips at a step ending before t_c ({len(early)} found); the first slip at step {first} "
+          f"(t = {times[first - 1]:.4g} to {times[first]:.4g} s, t_c = {t_c:.4f} s), {n_slip} of {n_el} elements "
+          f"slipping {verdict(good)}")
+    return ok
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="what", required=True)
@@ -328,8 +407,12 @@ def main():
     p.add_argument("--td-min", type=float, required=True)
     p.add_argument("--td-max", type=float, required=True)
     p.add_argument("--tol", type=float, default=0.03)
+    p = sub.add_parser("onset")
+    p.add_argument("dir")
+    p.add_argument("prefix")
+    p.add_argument("--tol", type=float, default=0.01)
     args = ap.parse_args()
-    ok = {"mandel": mandel, "gringarten": gringarten}[args.what](args)
+    ok = {"mandel": mandel, "gringarten": gringarten, "onset": onset}[args.what](args)
     sys.exit(0 if ok else 1)
 
 

@@ -194,5 +194,5 @@ else
   ko "no fault, poromechanics_faults vs biot: $(echo "$r" | tr '\n' ' ')"
 fi
 
-echo "poro_faults: $pass passed, $fail failed"
+echo "suite poro_faults: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
