@@ -11,7 +11,8 @@
 # 2. A fracture well producing at a constant rate from a highly conductive
 #    vertical fracture in a rigid reservoir (tests/decks/poro_faults_frac_well.nml):
 #    the well's pressure against Gringarten, Ramey and Raghavan's (1974)
-#    infinite-conductivity solution through linear and pseudo-radial flow (3 %).
+#    infinite-conductivity solution through linear and pseudo-radial flow
+#    (3 %), every element of the fracture at the well's pressure (1 %).
 # 3. A fault pressurized uniformly until it slips
 #    (tests/decks/poro_faults_onset.nml): the pressure of every cell and element
 #    against the closed form; no element slips before the time the effective
