@@ -3,7 +3,8 @@
 # deliverable 3; MUMPS). tests/verification/check_poro_faults_closed.py
 # states each check and its bound.
 # 1. Mandel's problem cut by a glued (stick), hydraulically transparent
-#    (exchange 'open') fault (tests/decks/poro_faults_mandel.nml): the
+#    (exchange 'open') fault dipping 20 degrees across the specimen, so
+#    that the flow crosses it (tests/decks/poro_faults_mandel.nml): the
 #    pressure of every cell and the displacement of every node at every step
 #    against biot's uncut run, within the fault's storage and compliance
 #    bound; both runs against Mandel's closed form (2 % of p0, mandel.sh's
@@ -44,6 +45,7 @@ lines() {  # the checker's lines as checks; its exit status fails the suite too
 # 1. Mandel with a glued, transparent fault, and biot's uncut run
 $PY postproc/make_mandel_history.py "$out/mandel_plate.tab" 6e8 0.2 0.9 8e9 2e-14 1e-3 1 1 2e6 40 \
   || ko "make_mandel_history.py"
+$PY tests/verification/make_mandel_fault_msh.py "$out/mandel_fault.msh" || ko "make_mandel_fault_msh.py"
 deck mandel_fault tests/decks/poro_faults_mandel.nml
 sed -e "s#physics = 'poromechanics_faults'#physics = 'biot'#" -e "/^&fault/,/^\//d" -e "/^&fracture_flow/,/^\//d" \
   -e "s#$out/mandel_fault#$out/mandel_biot#" "$out/mandel_fault.nml" > "$out/mandel_biot.nml"
