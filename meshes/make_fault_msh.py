@@ -81,26 +81,42 @@ def main():
             lo[a] = 1.0
         return tuple(lo + hi)
 
+    order = [(i, j, k) for k in range(N + 1) for j in range(N + 1) for i in range(N + 1)]
+    nodes = [(nt(*ijk), (X[ijk[0]], Y[ijk[1]], Z[ijk[2]])) for ijk in order]
+    out = msh_lines(nodes, hexes, quads, PHYS_SURF, PHYS_VOL, bbox, (0.0, 0.0, 0.0, 1.0, 1.0, 1.0))
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "fault_tip.msh")
+    with open(path, "w") as f:
+        f.write("\n".join(out) + "\n")
+    print("wrote", path)
+
+
+def msh_lines(nodes, hexes, quads, phys_surf, phys_vol, bbox, vol_bbox):
+    """The lines of an MSH 4.1 ASCII file: nodes [(tag, (x, y, z))] in one
+    block of the volume, the hexahedra (lists of 8 node tags), quads
+    {surface name: [4 node tags]} for each (tag, name) of phys_surf, one
+    physical volume phys_vol = (tag, name); bbox(name) and vol_bbox the
+    entities' bounding boxes. Also used by
+    tests/verification/make_mandel_fault_msh.py."""
+    tags = [t for t, _ in nodes]
     out = []
     out += ["$MeshFormat", "4.1 0 8", "$EndMeshFormat"]
-    out += ["$PhysicalNames", str(len(PHYS_SURF) + 1)]
-    out += ['2 %d "%s"' % (t, name) for t, name in PHYS_SURF]
-    out += ['3 %d "%s"' % PHYS_VOL, "$EndPhysicalNames"]
-    out += ["$Entities", "0 0 %d 1" % len(PHYS_SURF)]
-    for e, (t, name) in enumerate(PHYS_SURF, start=1):
+    out += ["$PhysicalNames", str(len(phys_surf) + 1)]
+    out += ['2 %d "%s"' % (t, name) for t, name in phys_surf]
+    out += ['3 %d "%s"' % phys_vol, "$EndPhysicalNames"]
+    out += ["$Entities", "0 0 %d 1" % len(phys_surf)]
+    for e, (t, name) in enumerate(phys_surf, start=1):
         out.append("%d %s 1 %d 0" % (e, " ".join("%.17g" % v for v in bbox(name)), t))
-    out.append("1 0 0 0 1 1 1 1 %d %d %s" % (PHYS_VOL[0], len(PHYS_SURF) - 1,
-                                            " ".join(str(e) for e in range(1, len(PHYS_SURF)))))
+    out.append("1 %s 1 %d %d %s" % (" ".join("%.17g" % v for v in vol_bbox), phys_vol[0], len(phys_surf) - 1,
+                                    " ".join(str(e) for e in range(1, len(phys_surf)))))
     out.append("$EndEntities")
-    out += ["$Nodes", "1 %d %d %d" % (n_nodes, min(tag), max(tag)), "3 1 0 %d" % n_nodes]
-    order = [(i, j, k) for k in range(N + 1) for j in range(N + 1) for i in range(N + 1)]
-    out += [str(nt(*ijk)) for ijk in order]
-    out += ["%.17g %.17g %.17g" % (X[i], Y[j], Z[k]) for (i, j, k) in order]
+    out += ["$Nodes", "1 %d %d %d" % (len(nodes), min(tags), max(tags)), "3 1 0 %d" % len(nodes)]
+    out += [str(t) for t in tags]
+    out += ["%.17g %.17g %.17g" % x for _, x in nodes]
     out.append("$EndNodes")
     n_elem = len(hexes) + sum(len(q) for q in quads.values())
-    out += ["$Elements", "%d %d 1 %d" % (len(PHYS_SURF) + 1, n_elem, n_elem)]
+    out += ["$Elements", "%d %d 1 %d" % (len(phys_surf) + 1, n_elem, n_elem)]
     etag = 1
-    for e, (_, name) in enumerate(PHYS_SURF, start=1):
+    for e, (_, name) in enumerate(phys_surf, start=1):
         out.append("2 %d 3 %d" % (e, len(quads[name])))
         for q in quads[name]:
             out.append("%d %s" % (etag, " ".join(map(str, q))))
@@ -110,10 +126,7 @@ def main():
         out.append("%d %s" % (etag, " ".join(map(str, h))))
         etag += 1
     out.append("$EndElements")
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "fault_tip.msh")
-    with open(path, "w") as f:
-        f.write("\n".join(out) + "\n")
-    print("wrote", path)
+    return out
 
 
 if __name__ == "__main__":

@@ -232,5 +232,5 @@ for np in 2 3; do
     "$out/states_fgmres$np/states" 1e-8 "injection into a fault, FGMRES, 1 vs $np ranks"
 done
 
-echo "poro_faults: $pass passed, $fail failed"
+echo "suite poro_faults: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
