@@ -98,7 +98,8 @@ contains
                   ' was the last one done; the run goes on with step '//itoa(step))
   end subroutine resume_run
 
-  !> The deck's schedule continues as the checkpoint's run would have.
+  !> The deck's schedule continues as the checkpoint's run would have (or,
+  !> after a checkpoint at its run's end, goes on past it).
   subroutine check_schedule(schedule, info, status)
     type(step_schedule_t), intent(in) :: schedule
     type(checkpoint_info_t), intent(in) :: info
@@ -111,6 +112,9 @@ contains
     end if
     dt = 0.0_rp
     if (.not. schedule%next(info%step + 1, info%time, t_next, dt)) dt = 0.0_rp
+    ! a checkpoint written at the end of its run (no next step) may be
+    ! continued by a deck whose t_end lies further
+    if (info%next_dt == 0.0_rp .and. dt > 0.0_rp) return
     if (dt /= info%next_dt) call status%set('the deck''s &time gives step '//itoa(info%step + 1)// &
       ' the size '//trim(rtoa(dt))//', the checkpoint''s run '//trim(rtoa(info%next_dt))// &
       ' (&time must not change)')

@@ -36,7 +36,7 @@ module coupled_simulation
   use precon_factory, only: precon_params_t
   use mgr_precon, only: mgr_precon_t, mgr_contact, mgr_flow
   use simulation, only: simulation_t, foreign_len, common_parameter_groups, step_stats_t
-  use physics_component, only: physics_component_t, coupling_t, field_len
+  use physics_component, only: physics_component_t, coupling_t, field_len, hold_tol
   use interface_contact, only: interface_contact_t, interface_contact_of
   use fracture_flow_component, only: fracture_flow_component_t, fracture_flow_of
   implicit none
@@ -719,7 +719,6 @@ contains
     type(coupled_simulation_t), intent(in) :: self
     logical, intent(inout) :: converged
     character(len=*), intent(inout) :: why
-    real(rp), parameter :: hold_tol = 1.0e-3_rp
     character(len=msg_len) :: what
     real(rp) :: excess
     integer :: k

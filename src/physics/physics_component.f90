@@ -51,10 +51,15 @@ module physics_component
   implicit none
   private
 
-  public :: physics_component_t, component_ptr_t, coupling_t, field_len, update_piece
+  public :: physics_component_t, component_ptr_t, coupling_t, field_len, update_piece, hold_tol
 
   !> length of a field's name ('u', 't', 'p', ...)
   integer, parameter :: field_len = 8
+
+  !> the largest violation of a status a component may hold an element in
+  !> (relative: a traction over the largest traction, an overlap over the
+  !> largest jump); beyond it the element is not held but changes status
+  real(rp), parameter :: hold_tol = 1.0e-3_rp
 
   type :: component_ptr_t
     class(physics_component_t), pointer :: p => null()

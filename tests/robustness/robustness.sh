@@ -17,6 +17,10 @@
 #    (a load step's, the step at t = 0) stops at once, saying so, uncut;
 #  - a Krylov solve stalled within 10x of rtol is accepted with a warning and
 #    counted on the progress line, and the run ends as the converged one;
+#  - a closed fracture with no well (sealed) under a growing load: its mass
+#    rows balance 1e-27 m^3 a step beside openings that are differences of
+#    displacements (round-off 3e-21 m^3): every step in 1 Newton iteration,
+#    no cut (before: cut down to dt / 2^8 and stopped);
 #  - the short robustness matrix (tests/robustness/matrix.py --short).
 set -u
 cd "$(dirname "$0")/../.."
@@ -170,6 +174,19 @@ if run stall 2 && run stall_ref 2; then
     ko "stalled run ends with $a, the converged one with $b"
 else
   ko "stalled-solve runs stopped: $(grep -h error "$out"/stall*.stderr | head -1)"
+fi
+
+# -- a sealed closed fracture under a growing load
+printf '0 1.0\n1 1.2\n2 1.5\n3 2.0\n' > "$out/sealed_ramp.tab"
+deck sealed tests/decks/flow_closed_fine.nml -e '/^&well/,/^\//d' \
+  -e "s#traction = 0.0, -1.0e7, 0.0#traction = 0.0, -1.0e7, 0.0, history = 'sealed_ramp.tab'#" \
+  -e 's#nx = 100, ny = 60#nx = 50, ny = 30#' -e 's#core_n = 68, 10#core_n = 34, 6#'
+if grep -q '&well' "$out/sealed.nml"; then
+  ko "sealed fracture: the deck still has its well"
+elif run sealed 1 && no_cut sealed && [ "$(newton_counts sealed)" = "1 1 1 1 " ]; then
+  ok "sealed closed fracture under a growing load: Newton iterations $(newton_counts sealed)no cut"
+else
+  ko "sealed closed fracture: Newton $(newton_counts sealed), cuts $(grep -c 'cut in half' "$out/sealed.stderr")"
 fi
 
 # -- the short robustness matrix
