@@ -21,6 +21,12 @@
 !>   fracture flow (u, t, p): the contact level first (keeps u and p), then
 !>     p as F by Jacobi, Jacobi interpolation, injection, Galerkin; u by
 !>     BoomerAMG.
+!>   poromechanics with faults (u, q, pm, t, p): the contact level first
+!>     (keeps u, q, pm, p), then Biot's two levels: u as F by a BoomerAMG
+!>     V-cycle (hypre's own at this level: one function, its defaults),
+!>     Jacobi interpolation, injection, non-Galerkin; q as F by Jacobi,
+!>     Jacobi interpolation, injection, Galerkin; the two pressures (pm, p)
+!>     together by BoomerAMG, as our block preconditioner's group.
 !> Level settings are hypre 2.26's codes (HYPRE_parcsr_ls.h): F-relaxation
 !> 0 Jacobi, 2 AMG, 18 l1-Jacobi; interpolation 2 Jacobi, 12 block Jacobi;
 !> restriction 0 injection; coarse grid 0 Galerkin, 1 non-Galerkin.
@@ -47,9 +53,9 @@ module mgr_precon
   implicit none
   private
 
-  public :: mgr_precon_t, mgr_strategy_t, mgr_biot, mgr_contact, mgr_flow
+  public :: mgr_precon_t, mgr_strategy_t, mgr_biot, mgr_contact, mgr_flow, mgr_poro_faults
 
-  integer, parameter :: max_levels = 3, max_labels = 8
+  integer, parameter :: max_levels = 3, max_labels = 9
 
   !> The reduction: labels kept at each level and the level settings.
   type :: mgr_strategy_t
@@ -124,6 +130,24 @@ contains
     s%restrict(2) = 0
     s%cg_method(2) = 0
   end function mgr_flow
+
+  !> Poromechanics with faults, labels u = 0, 1, 2, q = 3, pm = 4, t = 5,
+  !> 6, 7, p = 8 (the components' order: mechanics, matrix flow, contact,
+  !> fracture flow).
+  function mgr_poro_faults() result(s)
+    type(mgr_strategy_t) :: s
+    s%name = 'poromechanics with faults'
+    s%n_labels = 9
+    s%n_levels = 3
+    s%n_kept(1:3) = [6, 3, 2]
+    s%kept(1:6, 1) = [0, 1, 2, 3, 4, 8]
+    s%kept(1:3, 2) = [3, 4, 8]
+    s%kept(1:2, 3) = [4, 8]
+    s%frelax(1:3) = [18, 2, 0]
+    s%interp(1:3) = [12, 2, 2]
+    s%restrict(1:3) = [0, 0, 0]
+    s%cg_method(1:3) = [0, 1, 0]
+  end function mgr_poro_faults
 
   !> Build MGR for the square monolithic matrix a, label(i) the strategy's
   !> label of owned row i, amg the settings of its BoomerAMGs. Collective;
