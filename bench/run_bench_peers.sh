@@ -73,7 +73,7 @@ deck() {  # kind n arg solver name -> $out/name.nml; prints the export's step an
       local step=3
       [ "$arg" = open ] && step=4
       sed -e "s#dir = '[^']*', prefix = 'states'#dir = '$out', prefix = '$name', fields = .false.#" \
-          -e "s#nx = 8, ny = 8, nz = 8#nx = $n, ny = $n, nz = $n#" \
+          -e "s#nx = 8, ny = 8, nz = 8#nx = $n, ny = $n, nz = $n#" -e "s#t_end = 4.0#t_end = $step.0#" \
           -e "s#method = 'mumps'#$solver, export_step = $step, export_newton = 2#" \
           tests/decks/poro_faults_states.nml > "$out/$name.nml" ;;
   esac
