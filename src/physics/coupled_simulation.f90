@@ -368,8 +368,8 @@ contains
       call log%info('linear solver: MUMPS (direct) at every Newton iteration')
     else
       if (self%solver%precon == 'mgr' .and. has_kind(self, 'matrix_flow')) then
-        call log%info("linear solver: FGMRES with hypre's MGR on the whole system (GEOS's contact and "// &
-                      'poromechanics strategies: t by l1-Jacobi, then u by BoomerAMG, then q by Jacobi, (pm, p) '// &
+        call log%info("linear solver: FGMRES with hypre's MGR on the whole system (GEOS's poromechanics and "// &
+                      'contact strategies: u by BoomerAMG, then t by l1-Jacobi, then q by Jacobi, (pm, p) '// &
                       'by BoomerAMG)')
       else if (self%solver%precon == 'mgr') then
         call log%info("linear solver: FGMRES with hypre's MGR on the whole system (GEOS's contact strategy: "// &
