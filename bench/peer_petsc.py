@@ -19,7 +19,10 @@ one BoomerAMG V-cycle with our own default settings (HMIS, ext+i with at
 most 6 entries, one aggressive level, strong threshold 0.5, l1-Gauss-Seidel;
 three functions for the displacement, whose rows come in whole nodes),
 except the flux q and the traction t blocks (a mass matrix, a stabilization),
-by Jacobi. Right-preconditioned FGMRES(restart) to the relative true residual
+by Jacobi. Blocks given together with --group (e.g. pm,p: the matrix and
+the fracture pressure of poromechanics with faults, one Schur complement
+for both as in our preconditioner; the default when both are exported) are
+one split, at the position of the first. Right-preconditioned FGMRES(restart) to the relative true residual
 rtol from x = 0, as ours. These are the best settings found
 (doc/benchmarks-history.md, "Peers on the same systems"); PETSC_OPTIONS in
 the environment overrides any of them (e.g.
@@ -106,6 +109,26 @@ def load(stem):
     return n, (r, c, v), b, blk.astype(np.int64), names
 
 
+def group_blocks(blk, names, group):
+    """Merge the blocks named in `group` into one, at the first one's place:
+    (new block of every row, new names)."""
+    if not group:
+        return blk, names
+    missing = [g for g in group if g not in names]
+    if missing:
+        fail(f"--group {','.join(group)}: no block {','.join(missing)} in the export's {','.join(names)}")
+    first = min(names.index(g) for g in group)
+    new_names, old_to_new = [], {}
+    for i, name in enumerate(names):
+        if name in group and i != first:
+            continue
+        old_to_new[i + 1] = len(new_names) + 1
+        new_names.append("+".join(group) if i == first else name)
+    for g in group:
+        old_to_new[names.index(g) + 1] = old_to_new[first + 1]
+    return np.vectorize(old_to_new.get)(blk).astype(np.int64), new_names
+
+
 def build(n, coo, b, comm):
     r, c, v = coo
     mat = PETSc.Mat().create(comm=comm)
@@ -176,9 +199,17 @@ def main():
     ap.add_argument("--ours-setup", type=float, default=None, help="our set-up seconds on this system")
     ap.add_argument("--ours-solve", type=float, default=None, help="our solve seconds on this system")
     ap.add_argument("--ours-its", type=int, default=None, help="our iterations on this system")
+    ap.add_argument("--group", default=None,
+                    help="blocks to split together, comma separated ('pm,p' by default when both are exported; "
+                         "'none': every block alone)")
     args = ap.parse_args()
     comm = PETSc.COMM_WORLD
     n, coo, b, blk, names = load(args.stem)
+    group = args.group
+    if group is None:
+        group = "pm,p" if "pm" in names and "p" in names else "none"
+    if group != "none":
+        blk, names = group_blocks(blk, names, [g.strip() for g in group.split(",")])
     fields = sorted(set(blk.tolist()))
     if fields != list(range(1, len(names) + 1)):
         fail(f"{args.stem}_fields.mtx: blocks {fields} against the names {names}")

@@ -20,13 +20,18 @@
 #                (tests/decks/flow_nine.nml; 17: 4 m cells), the first slipping
 #                step's second Newton iteration (step 4), pressure_block ORDER
 #                ('eliminated': blocks t, p, u; 'schur': t, u, p)
+#   poro N MIX : poromechanics with faults, the injection into a fault of
+#                tests/decks/poro_faults_states.nml on N cells per side; MIX
+#                'slip' (step 3, 4/12/0 at 8 cells) or 'open' (step 4, with
+#                open elements), its second Newton iteration; blocks t, u, q,
+#                pm, p (PETSc: the two pressures in one split, as ours)
 # Usage: bench/run_bench_peers.sh [ranks] [cases, each "kind:N:arg" or "kind:N:arg:mumps"] [mumps: all|marked|no]
 # (MUMPS runs on every case with 'all', on the cases marked ':mumps' with 'marked')
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 np=${1:-2}
-cases=${2:-"mandel:40:1:mumps mandel:80:0.15 mandel:80:1:mumps mandel:80:100 contact:40:stick:mumps contact:40:slip:mumps nine:17:eliminated:mumps nine:17:schur"}
+cases=${2:-"mandel:40:1:mumps mandel:80:0.15 mandel:80:1:mumps mandel:80:100 contact:40:stick:mumps contact:40:slip:mumps nine:17:eliminated:mumps nine:17:schur poro:16:slip:mumps poro:16:open"}
 with_mumps=${3:-marked}
 PY=${PYTHON:-/usr/bin/python3}
 out=build/bench/peers
@@ -64,6 +69,13 @@ deck() {  # kind n arg solver name -> $out/name.nml; prints the export's step an
           -e "s#method = 'mumps'#$solver, export_step = 4, export_newton = 2#" \
           -e "s#initial_pressure = 4.0e6#initial_pressure = 4.0e6, pressure_block = '$arg'#" \
           tests/decks/flow_nine.nml > "$out/$name.nml" ;;
+    poro)
+      local step=3
+      [ "$arg" = open ] && step=4
+      sed -e "s#dir = '[^']*', prefix = 'states'#dir = '$out', prefix = '$name', fields = .false.#" \
+          -e "s#nx = 8, ny = 8, nz = 8#nx = $n, ny = $n, nz = $n#" -e "s#t_end = 4.0#t_end = $step.0#" \
+          -e "s#method = 'mumps'#$solver, export_step = $step, export_newton = 2#" \
+          tests/decks/poro_faults_states.nml > "$out/$name.nml" ;;
   esac
 }
 

@@ -21,6 +21,19 @@
 !>   fracture flow (u, t, p): the contact level first (keeps u and p), then
 !>     p as F by Jacobi, Jacobi interpolation, injection, Galerkin; u by
 !>     BoomerAMG.
+!>   poromechanics with faults (u, q, pm, t, p): level 0 keeps q, pm, t,
+!>     p: F = u by one BoomerAMG V-cycle (ours, three functions), Jacobi
+!>     interpolation, injection, non-Galerkin (Biot's first level); level 1
+!>     keeps q, pm, p: F = t by l1-Jacobi, block-Jacobi interpolation,
+!>     injection, Galerkin (the contact's level, on the tractions' Schur
+!>     complement after u); level 2 keeps pm, p: F = q by Jacobi, Jacobi
+!>     interpolation, injection, Galerkin; the two pressures together by
+!>     BoomerAMG, as our block preconditioner's group. The contact's order
+!>     (t first, then u) leaves u to an F-relaxation at a later level, which
+!>     hypre 2.26 does by its own one-function BoomerAMG (a user's F-solver
+!>     only at the first level): 47 and 85 FGMRES iterations at 8^3 and 16^3
+!>     cells (tests/decks/poro_faults_states.nml, step 3, Newton 2) against
+!>     36 and 39 in this order.
 !> Level settings are hypre 2.26's codes (HYPRE_parcsr_ls.h): F-relaxation
 !> 0 Jacobi, 2 AMG, 18 l1-Jacobi; interpolation 2 Jacobi, 12 block Jacobi;
 !> restriction 0 injection; coarse grid 0 Galerkin, 1 non-Galerkin.
@@ -47,9 +60,9 @@ module mgr_precon
   implicit none
   private
 
-  public :: mgr_precon_t, mgr_strategy_t, mgr_biot, mgr_contact, mgr_flow
+  public :: mgr_precon_t, mgr_strategy_t, mgr_biot, mgr_contact, mgr_flow, mgr_poro_faults
 
-  integer, parameter :: max_levels = 3, max_labels = 8
+  integer, parameter :: max_levels = 3, max_labels = 9
 
   !> The reduction: labels kept at each level and the level settings.
   type :: mgr_strategy_t
@@ -124,6 +137,24 @@ contains
     s%restrict(2) = 0
     s%cg_method(2) = 0
   end function mgr_flow
+
+  !> Poromechanics with faults, labels u = 0, 1, 2, q = 3, pm = 4, t = 5,
+  !> 6, 7, p = 8 (the components' order: mechanics, matrix flow, contact,
+  !> fracture flow): u, then t, then q; (pm, p) on the last level.
+  function mgr_poro_faults() result(s)
+    type(mgr_strategy_t) :: s
+    s%name = 'poromechanics with faults'
+    s%n_labels = 9
+    s%n_levels = 3
+    s%n_kept(1:3) = [6, 3, 2]
+    s%kept(1:6, 1) = [3, 4, 5, 6, 7, 8]
+    s%kept(1:3, 2) = [3, 4, 8]
+    s%kept(1:2, 3) = [4, 8]
+    s%frelax(1:3) = [2, 18, 0]
+    s%interp(1:3) = [2, 12, 2]
+    s%restrict(1:3) = [0, 0, 0]
+    s%cg_method(1:3) = [1, 0, 0]
+  end function mgr_poro_faults
 
   !> Build MGR for the square monolithic matrix a, label(i) the strategy's
   !> label of owned row i, amg the settings of its BoomerAMGs. Collective;

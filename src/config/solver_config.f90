@@ -6,9 +6,9 @@
 !>             FSAI, settings in &afsai), 'hypre_fsai' (hypre's FSAI with the
 !>             max_steps, step_size and tol of &afsai) or 'none'; for
 !>             physics = 'biot': 'block' (the block preconditioner); biot,
-!>             contact and fracture_flow: 'block' (ours) or 'mgr' (hypre's
-!>             MGR on the whole system, GEOS's strategies: the peer of the
-!>             benchmarks, mgr_precon.f90)
+!>             contact, fracture_flow and poromechanics_faults: 'block'
+!>             (ours) or 'mgr' (hypre's MGR on the whole system, GEOS's
+!>             strategies: the peer of the benchmarks, mgr_precon.f90)
 !>                            ['boomeramg'; biot, contact and fracture_flow: 'block']
 !>   decoupling biot: approximation of the decoupling factors F and G of the
 !>             block framework: 'implicit' (products with the coupling blocks
@@ -190,7 +190,7 @@ contains
     call g%add('method', self%method, '-', "Krylov method, or the direct solver ('cg': elasticity only)", &
                "'fgmres', 'cg' or 'mumps'")
     call g%add('precon', self%precon, '-', "preconditioner: 'block' (ours) for biot, contact, fracture_flow "// &
-               "and poromechanics_faults, 'mgr' (hypre's MGR) for the first three, the others for elasticity", &
+               "and poromechanics_faults, 'mgr' (hypre's MGR) for the same four, the others for elasticity", &
                "'boomeramg', 'jacobi', 'afsai', 'hypre_fsai', 'none', 'block' or 'mgr'")
     call g%add('rtol', self%rtol, '-', 'relative residual tolerance (of the scaled system where the physics '// &
                'scales it)', '(0, 1)')

@@ -8,8 +8,11 @@
 !>   slip_magnitude   its length [m]
 !>   opening          normal jump g_N = (u_plus - u_minus) . n [m], > 0 open
 !>   normal_traction  t_N on the fault [Pa], < 0 in compression (the contact
-!>                    traction of the friction law; with &fault pressure p the
-!>                    total normal traction on the faces is t_N - p)
+!>                    traction of the friction law, effective: with the fluid
+!>                    pressure p on the faces, &fault pressure or the
+!>                    fracture flow's, the total normal traction on them is
+!>                    t_N - p, written by interface_contact as
+!>                    total_normal_traction beside pressure)
 !>   shear_traction   (3) tangential traction on the minus side, global x, y, z [Pa]
 !>   shear_traction_magnitude  |tau| [Pa]
 !>   cff              Coulomb failure function |tau| - (c - tan(phi) t_N) [Pa]:
@@ -66,9 +69,10 @@ contains
     if (.not. status%ok()) return
     call out%writer%add_info('status', '0 stick, 1 slip, 2 open', status, self%grid)
     call out%writer%add_info('units', 'slip, slip_magnitude, opening, center: m; normal_traction, '// &
-      'shear_traction, shear_traction_magnitude, cff: Pa', status, self%grid)
+      'total_normal_traction, pressure, shear_traction, shear_traction_magnitude, cff: Pa', status, self%grid)
     call out%writer%add_info('signs', 'jump = u_plus - u_minus, normal from the minus to the plus side; '// &
-      'opening positive when open; normal_traction negative in compression; slip and shear_traction '// &
+      'opening positive when open; normal_traction (effective: the contact traction of the friction law) and '// &
+      'total_normal_traction (normal_traction - pressure) negative in compression; slip and shear_traction '// &
       'in global x y z', &
       status, self%grid)
     call out%writer%add_info('cff', 'Coulomb failure function |shear_traction| - (cohesion - '// &

@@ -34,7 +34,7 @@ module coupled_simulation
   use contact_precon, only: contact_precon_t
   use poro_faults_precon, only: poro_faults_precon_t
   use precon_factory, only: precon_params_t
-  use mgr_precon, only: mgr_precon_t, mgr_contact, mgr_flow
+  use mgr_precon, only: mgr_precon_t, mgr_contact, mgr_flow, mgr_poro_faults
   use simulation, only: simulation_t, foreign_len, common_parameter_groups, step_stats_t
   use physics_component, only: physics_component_t, coupling_t, field_len, hold_tol
   use interface_contact, only: interface_contact_t, interface_contact_of
@@ -367,7 +367,11 @@ contains
     if (self%solver%method == 'mumps') then
       call log%info('linear solver: MUMPS (direct) at every Newton iteration')
     else
-      if (self%solver%precon == 'mgr') then
+      if (self%solver%precon == 'mgr' .and. has_kind(self, 'matrix_flow')) then
+        call log%info("linear solver: FGMRES with hypre's MGR on the whole system (GEOS's poromechanics and "// &
+                      'contact strategies: u by BoomerAMG, then t by l1-Jacobi, then q by Jacobi, (pm, p) '// &
+                      'by BoomerAMG)')
+      else if (self%solver%precon == 'mgr') then
         call log%info("linear solver: FGMRES with hypre's MGR on the whole system (GEOS's contact strategy: "// &
                       't by l1-Jacobi'//trim(merge(', then p by Jacobi', '                  ', &
                       associated(flow_component(self))))//', u by BoomerAMG)')
@@ -538,7 +542,8 @@ contains
   end subroutine matrix_fluid_setup
 
   !> hypre's MGR on the whole system (labels: the components of each field
-  !> in the order of the components: u 0-2, t 3-5, p 6). Collective.
+  !> in the order of the components: u 0-2, t 3-5, p 6; with the matrix
+  !> flow u 0-2, q 3, pm 4, t 5-7, p 8). Collective.
   subroutine mgr_setup(self, status)
     type(coupled_simulation_t), intent(inout), target :: self
     type(error_status_t), intent(inout) :: status
@@ -556,7 +561,9 @@ contains
         next = next + ncomp(b)
       end do
     end do
-    if (associated(flow_component(self))) then
+    if (has_kind(self, 'matrix_flow')) then
+      call self%mgr%setup_blocks(self%ctx%sys, ncomp, first, mgr_poro_faults(), self%amg, status)
+    else if (associated(flow_component(self))) then
       call self%mgr%setup_blocks(self%ctx%sys, ncomp, first, mgr_flow(), self%amg, status)
     else
       call self%mgr%setup_blocks(self%ctx%sys, ncomp, first, mgr_contact(), self%amg, status)

@@ -572,7 +572,9 @@ contains
   end subroutine open_output
 
   !> The fault fields (fractures grid, fracture_output.f90; status there 0
-  !> stick, 1 slip, 2 open) and the fluid pressure on the faces. Collective.
+  !> stick, 1 slip, 2 open), the fluid pressure on the faces and the total
+  !> normal traction t_N - p on them (normal_traction, t_N, is the effective
+  !> one that the friction law sees). Collective.
   subroutine write_output(self, ctx, out, status)
     class(interface_contact_t), intent(inout) :: self
     type(coupling_t), intent(in) :: ctx
@@ -588,36 +590,46 @@ contains
     ! fracture flow's pressure
     associate (n => ctx%mesh%iface_map%n_owned)
       call out%writer%cell_field('pressure', ctx%face_pressure(1:n), status, self%fout%grid)
+      if (status%ok()) call out%writer%cell_field('total_normal_traction', self%trac(1, 1:n) - ctx%face_pressure(1:n), &
+                                                  status, self%fout%grid)
     end associate
   end subroutine write_output
 
-  !> Per fault (mesh order) its largest slip (tangential jump) and slipping
-  !> area (elements with status slip).
+  !> Per fault (mesh order) its largest slip (tangential jump), its mean
+  !> slip (weighted by the elements' areas) and slipping area (elements
+  !> with status slip).
   subroutine sample(self, ctx, pf, status)
     class(interface_contact_t), intent(inout) :: self
     type(coupling_t), intent(in) :: ctx
     type(probe_fields_t), intent(inout) :: pf
     type(error_status_t), intent(inout) :: status
-    real(rp), allocatable :: smax(:), area(:), values(:)
+    real(rp), allocatable :: smax(:), sums(:), values(:)
     character(len=scalar_name_len), allocatable :: names(:)
+    real(rp) :: s
     integer(ip) :: e
     integer :: f, nf
     associate (mesh => ctx%mesh, comm => ctx%sim%comm)
       nf = size(mesh%fault_names)
-      allocate(smax(nf), area(nf), names(2 * nf), values(2 * nf))
+      ! sums: per fault its slipping area, its area and its area-weighted slip
+      allocate(smax(nf), sums(3 * nf), names(3 * nf), values(3 * nf))
       smax = 0.0_rp
-      area = 0.0_rp
+      sums = 0.0_rp
       do e = 1, mesh%iface_map%n_owned
         f = mesh%iface_fault(e)
-        smax(f) = max(smax(f), norm2(self%jump(2:3, e) - self%jump_geo(2:3, e)))
-        if (self%state(e) == state_slip) area(f) = area(f) + self%area(e)
+        s = norm2(self%jump(2:3, e) - self%jump_geo(2:3, e))
+        smax(f) = max(smax(f), s)
+        if (self%state(e) == state_slip) sums(f) = sums(f) + self%area(e)
+        sums(nf + f) = sums(nf + f) + self%area(e)
+        sums(2 * nf + f) = sums(2 * nf + f) + self%area(e) * s
       end do
-      call comm%sum_all(area)
+      call comm%sum_all(sums)
       do f = 1, nf
-        names(2*f - 1) = trim(mesh%fault_names(f))//':max_slip [m]'
-        names(2*f) = trim(mesh%fault_names(f))//':slip_area [m2]'
-        values(2*f - 1) = comm%max(smax(f))
-        values(2*f) = area(f)
+        names(3*f - 2) = trim(mesh%fault_names(f))//':max_slip [m]'
+        names(3*f - 1) = trim(mesh%fault_names(f))//':mean_slip [m]'
+        names(3*f) = trim(mesh%fault_names(f))//':slip_area [m2]'
+        values(3*f - 2) = comm%max(smax(f))
+        values(3*f - 1) = sums(2 * nf + f) / max(sums(nf + f), tiny(1.0_rp))
+        values(3*f) = sums(f)
       end do
     end associate
     ! after the scalars of the components before it (the matrix flow's)

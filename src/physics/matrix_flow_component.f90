@@ -135,9 +135,6 @@ contains
     if (status%ok()) call read_sources(d, log, self%srcs, status)
     if (.not. status%ok()) return
     associate (sv => ctx%sim%solver)
-      if (sv%method /= 'mumps' .and. sv%precon == 'mgr') call status%set("deck '"//trim(d%path)//"', group &solver, "// &
-        "variable precon: physics = 'poromechanics_faults' has the block preconditioner ('block') or method = 'mumps' "// &
-        "(hypre's MGR strategies do not know the matrix's flux and pressure)")
       if (sv%method /= 'mumps' .and. sv%decoupling == 'explicit' .and. status%ok()) call status%set("deck '"//trim(d%path)// &
         "', group &solver, variable decoupling: physics = 'poromechanics_faults' has implicit factors only (its "// &
         "displacement block S* follows the contact's statuses: an explicit K^-1 Q would be rebuilt every iteration)")

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The program end to end: the Gmsh deck on 2 ranks against the oedometric
-# solution, its output files and log; the matrix export of the cube deck;
+# solution, its output files and log; the matrix export of the cube deck
+# (and the exported systems of flow_states.nml and poro_faults_states.nml with
+# the PETSc peer);
 # the stress components at ParaView's positions and the probe file.
 set -u
 cd "$(dirname "$0")/../.."
@@ -134,6 +136,32 @@ if r=$($PY bench/peer_petsc.py --rtol 1e-10 "$out/export_step/flow_states_step2_
   ok "PETSc fieldsplit peer on the exported u-t-p system: $r"
 else
   ko "PETSc fieldsplit peer on the exported u-t-p system: $r"
+fi
+# 2b''. the same for poromechanics with faults (tests/decks/poro_faults_states.nml,
+# step 3, Newton iteration 2, slipping): the blocks named in FGMRES's order
+# t,u,q,pm,p with the log's sizes, and the PETSc peer with the two
+# pressures in one split, as make bench runs it
+sed -e "s#dir = '[^']*', prefix = 'states'#dir = '$out/export_poro', prefix = 'poro', fields = .false.#" \
+  -e "s#method = 'mumps'#method = 'fgmres', export_step = 3, export_newton = 2#" -e "s#t_end = 4.0#t_end = 3.0#" \
+  tests/decks/poro_faults_states.nml > "$out/export_poro.nml"
+if timeout 300 mpirun --oversubscribe -np 2 bin/geoblock "$out/export_poro.nml" > "$out/export_poro.stdout" 2>&1 < /dev/null \
+   && grep -q "step 3, Newton iteration 2 (exported): iterations" "$out/export_poro/poro.log"; then
+  stem="$out/export_poro/poro_step3_newton2"
+  blocks=$(sed -n 3p "${stem}_fields.mtx" | sed -E 's/.*: //')
+  sizes=$(grep -m1 '^unknowns: ' "$out/export_poro/poro.log" | sed -E 's/unknowns: u ([0-9]+), q ([0-9]+), pm ([0-9]+), t ([0-9]+), p ([0-9]+).*/\4 \1 \2 \3 \5/')
+  counts=$(awk 'NR > 4 {c[$1]++} END {printf "%d %d %d %d %d", c[1], c[2], c[3], c[4], c[5]}' "${stem}_fields.mtx")
+  if [ "$blocks" = "t,u,q,pm,p" ] && [ "$sizes" = "$counts" ]; then
+    ok "export_step, poromechanics with faults: blocks $blocks of $counts rows, as the log's unknowns"
+  else
+    ko "export_step, poromechanics with faults: blocks '$blocks' of '$counts' rows, the log's unknowns '$sizes'"
+  fi
+  if r=$($PY bench/peer_petsc.py "$stem" 2>&1) && grep -q "^petsc fieldsplit (t,u,q,pm+p): converged, iterations [0-9]*, " <<< "$r"; then
+    ok "PETSc fieldsplit peer on the exported t-u-q-pm-p system: $r"
+  else
+    ko "PETSc fieldsplit peer on the exported t-u-q-pm-p system: $r"
+  fi
+else
+  ko "export_step, poromechanics with faults: the run fails or exports nothing, see $out/export_poro.stdout"
 fi
 # 2c. export_step naming a step the run does not make: a warning at the end,
 # no files, exit 0

@@ -69,6 +69,18 @@ if run "$out/flow_mumps.nml" 2 && run "$out/flow_mgr.nml" 2; then
     ok "fracture flow, MGR vs MUMPS (1e-6): $r; its $(its "$out/flow_mgr.log" '^  newton' 'linear its')"
   else ko "fracture flow, MGR vs MUMPS: $r"; fi
 fi
+# poromechanics with faults: stick, slip and open (tests/decks/poro_faults_states.nml), MGR vs MUMPS
+sed -e "s#dir = '[^']*'#dir = '$out/poro_mumps'#" tests/decks/poro_faults_states.nml > "$out/poro_mumps.nml"
+sed -e "s#dir = '[^']*'#dir = '$out/poro_mgr'#" -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10, precon = 'mgr'#" \
+  tests/decks/poro_faults_states.nml > "$out/poro_mgr.nml"
+if run "$out/poro_mumps.nml" 2 && run "$out/poro_mgr.nml" 2; then
+  grep -q "then q by Jacobi, (pm, p) by BoomerAMG" "$out/poro_mgr/states.log" \
+    && ok "poromechanics with faults with MGR: the log names it" || ko "poromechanics with faults with MGR: the log does not name it"
+  if r=$(VREPORT_TSV="$out/vreport.tsv" $PY tests/verification/check_poro_faults_same.py "$out/poro_mumps/states" "$out/poro_mgr/states" 1e-6 \
+       "poromechanics with faults, MGR vs MUMPS" 2>&1); then
+    ok "poromechanics with faults, MGR vs MUMPS: $(tail -1 <<< "$r"); its $(its "$out/poro_mgr/states.log" '^  newton' 'linear its')"
+  else ko "poromechanics with faults, MGR vs MUMPS: $(tr '\n' ' ' <<< "$r")"; fi
+fi
 # &contact reuse (the default): the Schur part kept while every element
 # sticks; the same Jacobian, so bit for bit the fields of a rebuild at
 # every Newton iteration (the onset case: 50 stick steps of closed fractures)

@@ -17,7 +17,9 @@
 # 4. Without faults the composition gives biot's Terzaghi (1e-10).
 # 5. FGMRES with the block preconditioner against MUMPS (1e-6) and 1 vs 2
 #    vs 3 ranks (1e-8) on an injection into a fault in a permeable matrix
-#    that goes from stick through slip to open.
+#    that goes from stick through slip to open; its outputs checked against
+#    each other (pressures, leak-off, tractions, CFF, the probes' per-fault
+#    leak-off and slip).
 set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -227,6 +229,13 @@ check() {  # label, command...
 }
 check "FGMRES + the block preconditioner vs MUMPS (largest count $its)" $PY tests/verification/check_poro_faults_same.py \
   "$out/states_mumps/states" "$out/states_fgmres1/states" 1e-6 "injection into a fault, FGMRES vs MUMPS"
+# the outputs against each other (check_poro_faults_outputs.py): the
+# datasets of both grids, the effective normal traction and the CFF
+# recomputed from the total traction and the fracture pressure, the probe
+# file's per-fault leak-off and slip from the elements
+while read -r line; do
+  case "$line" in *FAIL*|*Traceback*|*rror:*) ko "outputs: $line" ;; *) ok "outputs: $line" ;; esac
+done < <($PY tests/verification/check_poro_faults_outputs.py "$out/states_mumps" states 2>&1)
 for np in 2 3; do
   check "FGMRES, 1 vs $np ranks" $PY tests/verification/check_poro_faults_same.py "$out/states_fgmres1/states" \
     "$out/states_fgmres$np/states" 1e-8 "injection into a fault, FGMRES, 1 vs $np ranks"
