@@ -22,7 +22,8 @@
 # the matrix's pressure change in the most depleted sand and the slip on the
 # faults at the last step).
 # Usage: bench/run_bench_field_coupled.sh [refine] [ranks] [solver: mumps | fgmres]
-#   LIMIT=seconds stops a run after that long (default: no limit).
+#   LIMIT=seconds stops a run after that long (default: no limit); REUSE=1
+#   rewrites the report from the runs already there (no new run).
 # The coupled run's solver defaults to MUMPS: FGMRES with the block
 # preconditioner stalls on this deck's production steps (relative
 # residual about 0.6 after 1000 iterations; doc/poromechanics_faults.md).
@@ -54,15 +55,21 @@ fi
 
 # run NAME DECK: the run's wall time, exit status and peak memory
 run() {
-  local name=$1 deck=$2 t0
+  local name=$1 deck=$2 t0 rc
   t0=$(date +%s)
-  if [ "$limit" -gt 0 ]; then
-    /usr/bin/time -v timeout "$limit" mpirun --oversubscribe -np "$np" bin/geoblock "$deck" > "$out/$name.out" 2>&1
+  if [ "${REUSE:-0}" = 1 ] && [ -s "$out/$name.wall" ]; then
+    rc=$(cut -d' ' -f2 "$out/$name.wall")
   else
-    /usr/bin/time -v mpirun --oversubscribe -np "$np" bin/geoblock "$deck" > "$out/$name.out" 2>&1
+    if [ "$limit" -gt 0 ]; then
+      /usr/bin/time -v timeout "$limit" mpirun --oversubscribe -np "$np" bin/geoblock "$deck" > "$out/$name.out" 2>&1
+    else
+      /usr/bin/time -v mpirun --oversubscribe -np "$np" bin/geoblock "$deck" > "$out/$name.out" 2>&1
+    fi
+    rc=$?
   fi
-  rc=$?
   wall=$(( $(date +%s) - t0 ))
+  if [ "${REUSE:-0}" = 1 ] && [ -s "$out/$name.wall" ]; then wall=$(cut -d' ' -f1 "$out/$name.wall"); fi
+  echo "$wall $rc" > "$out/$name.wall"
   peak=$(grep -m1 'peak resident memory' "$out/$name.out" | sed -E 's/peak resident memory: //')
   rss=$(grep -m1 'Maximum resident set size' "$out/$name.out" | awk '{printf "%.0f MB", $NF / 1024}')
   status="exit $rc"
@@ -102,7 +109,7 @@ sum_c=$(run "$name" "$out/$name.nml")
 stem_c=$out/$name/$name
 log_c=$stem_c.log
 unk_c=$(grep -m1 '^unknowns:' "$log_c" 2>/dev/null | sed -E 's/ \(.*//; s/unknowns: //')
-times=$(grep -E '^time step [0-9]' "$log_c" | awk '{printf "%s%s", (NR > 1 ? "," : ""), $5}')
+times=$(grep -E '^time step [0-9]' "$log_c" | awk '$3 > 0 {printf "%s%s", (n++ ? "," : ""), $5}')
 
 # 2. the one-way run with the coupled run's compartment pressures
 $PY postproc/field_coupled.py compartment "$stem_c" $points -o "$out/$name.dp" > "$out/$name.dp.txt" || {
@@ -168,10 +175,10 @@ pic=$($PY postproc/field_coupled.py picture "$stem_c" "$((10#${last:-0}))" -o "$
   echo "|---|---|---|---|---|---|---|"
   $PY postproc/field_coupled.py faults "$stem_c" | grep '^first' > "$out/first_c.txt"
   $PY postproc/field_coupled.py faults "$stem_o" | grep '^first' > "$out/first_o.txt"
-  join -a1 -a2 -e- -o 0,1.3,1.4,1.5,2.3,2.4,2.5 <(cut -d' ' -f2- "$out/first_c.txt" | sort) \
+  join -a1 -a2 -e- -o 0,1.2,1.3,1.4,2.2,2.3,2.4 <(cut -d' ' -f2- "$out/first_c.txt" | sort) \
     <(cut -d' ' -f2- "$out/first_o.txt" | sort) | awk '{printf "| %s | %s | %s | %s | %s | %s | %s |\n", $1, $2, $3, $4, $5, $6, $7}'
   echo
-  echo "Picture: $pic"
+  echo "$pic"
 } > "$report"
 cat "$report"
 echo "table: $report"
