@@ -464,7 +464,11 @@ contains
     self%p(1:p1-p0+1) = ctx%x(p0:p1)
     call self%pd%map%import(self%p)
     self%p_face = self%p + self%p_hyd
-    call self%ff%set_apertures(self%ic%edges, self%ic%jump(1, :), self%ic%state == state_open)
+    ! the opening from the in-situ state (&geostatic: step 0's jumps, the
+    ! in-situ state's imbalance taken up with the faults bonded, are the
+    ! origin, as in the outputs; else 0)
+    call self%ff%set_apertures(self%ic%edges, self%ic%jump(1, :) - self%ic%jump_geo(1, :), &
+                               self%ic%state == state_open)
   end subroutine take_solution
 
   subroutine residual_names(self, names, units)
