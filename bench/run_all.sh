@@ -19,7 +19,7 @@
 set -u
 cd "$(dirname "$0")/.."
 standard="run_bench.sh run_bench_biot.sh run_bench_peers.sh run_bench_scaling.sh run_bench_contact.sh run_bench_fsai.sh run_bench_robustness.sh"
-large="run_bench_contact_diagnostics.sh run_bench_flow.sh run_bench_standins.sh run_bench_hi24l.sh"
+large="run_bench_contact_diagnostics.sh run_bench_flow.sh run_bench_standins.sh run_bench_hi24l.sh run_bench_field_coupled.sh"
 report=build/bench/REPORT.md
 case "${1:-standard}" in
   standard) scripts=$standard ;;

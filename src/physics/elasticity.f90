@@ -41,7 +41,7 @@ module elasticity
   implicit none
   private
 
-  public :: elasticity_t, lame
+  public :: elasticity_t, lame, point_block
 
   type :: elasticity_t
     type(dof_map_t) :: u                     !< 3 dofs per node, interleaved

@@ -46,6 +46,8 @@ module fracture_flow_component
     type(dof_map_t) :: pd                           !< 1 pressure per interface element
     type(fracture_flow_t) :: ff                     !< cubic-law transmissibilities
     real(rp), allocatable :: p(:), p_step(:)        !< (pressure map's local) fluid pressure now and at the step's start [Pa]
+    !> (pressure map's local) the hydrostatic pressure (&geostatic; else 0) and the faces' pressure p_hyd + p [Pa]
+    real(rp), allocatable :: p_hyd(:), p_face(:)
     real(rp), allocatable :: gn_step(:)             !< (n) normal jump at the step's start [m]
     type(well_links_t) :: wl                        !< the wells' connections and rates
     integer, allocatable :: pfix(:)                 !< (n) the &fracture_pressure of an element, 0: none
@@ -110,6 +112,7 @@ contains
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     integer :: k
+    logical :: with_matrix
     associate (sim => ctx%sim)
       sim%transient = .true.
       call self%fcfg%read(d, log, status)
@@ -144,8 +147,12 @@ contains
         trim(d%path)//"', group &contact, variable block: physics = 'fracture_flow' has the 'reordered' block "// &
         "preconditioner (with the pressure's Schur complement as its second level), or method = 'mumps'")
       if (.not. status%ok()) return
-      if (sim%geo%on) call status%set("deck '"//trim(d%path)//"': &geostatic is not available for physics = "// &
-        "'fracture_flow' yet (elasticity, contact and biot have it)")
+      ! with the matrix's fluid (poromechanics_faults) the pressures are
+      ! changes from the hydrostatic one, as biot's; alone, not yet
+      with_matrix = associated(ctx%find('matrix_flow'))
+      if (sim%geo%on .and. .not. with_matrix) call status%set("deck '"//trim(d%path)// &
+        "': &geostatic is not available for physics = 'fracture_flow' yet (elasticity, contact, biot and "// &
+        "poromechanics_faults have it)")
     end associate
   end subroutine read_deck
 
@@ -257,7 +264,17 @@ contains
       self%p = self%fcfg%initial_pressure
       self%p_step = self%p
       self%gn_step = 0.0_rp
-      ctx%face_pressure => self%p
+      ! the faces' pressure: with &geostatic the unknown is the change from
+      ! the hydrostatic pressure (as the matrix's), the faces feel both
+      allocate(self%p_hyd(self%pd%n_local()), self%p_face(self%pd%n_local()))
+      self%p_hyd = 0.0_rp
+      if (self%mc%mech%geo%on) then
+        do e = 1, mesh%n_ifaces
+          self%p_hyd(e) = self%mc%mech%geo%pore_pressure(sum(mesh%coords(3, mesh%iface_nodes(:, 1, e))) / 4.0_rp)
+        end do
+      end if
+      self%p_face = self%p + self%p_hyd
+      ctx%face_pressure => self%p_face
       call prescribed_pressures(self, mesh)
       call ctx%range('p', p0, p1)
       ctx%x(p0:p1) = self%fcfg%initial_pressure
@@ -449,7 +466,12 @@ contains
     self%p = 0.0_rp
     self%p(1:p1-p0+1) = ctx%x(p0:p1)
     call self%pd%map%import(self%p)
-    call self%ff%set_apertures(self%ic%edges, self%ic%jump(1, :), self%ic%state == state_open)
+    self%p_face = self%p + self%p_hyd
+    ! the opening from the in-situ state (&geostatic: step 0's jumps, the
+    ! in-situ state's imbalance taken up with the faults bonded, are the
+    ! origin, as in the outputs; else 0)
+    call self%ff%set_apertures(self%ic%edges, self%ic%jump(1, :) - self%ic%jump_geo(1, :), &
+                               self%ic%state == state_open)
   end subroutine take_solution
 
   subroutine residual_names(self, names, units)
@@ -588,6 +610,7 @@ contains
     call self%pd%free()
     call self%ff%free()
     if (allocated(self%p)) deallocate(self%p, self%p_step, self%gn_step)
+    if (allocated(self%p_hyd)) deallocate(self%p_hyd, self%p_face)
     call self%wl%free()
     if (allocated(self%pfix)) deallocate(self%pfix, self%p_fixed)
     if (allocated(self%mass_mag)) deallocate(self%mass_mag, self%mass_noise)

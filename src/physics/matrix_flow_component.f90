@@ -547,7 +547,7 @@ contains
       do c = 1, n
         t1 = dot_product(self%qe(:, c), u(self%dofs(:, c)) - us(self%dofs(:, c)))
         m1 = dot_product(abs(self%qe(:, c)), abs(u(self%dofs(:, c))) + abs(us(self%dofs(:, c))))
-        src = ctx%dt * self%med%src_rate(mesh%cell_region(c)) * self%med%vol(c)
+        src = ctx%dt * self%med%src_rate(c) * self%med%vol(c)
         ctx%rhs(p0 + c - 1) = -(t1 + t2(c) + t3(c) - src)
         self%mass_mag(c) = abs(t1) + abs(t2(c)) + abs(t3(c)) + abs(src)
         self%mass_noise(c) = m1 + m2(c) + m3(c) + abs(src)

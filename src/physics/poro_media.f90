@@ -12,7 +12,8 @@
 !>   the (p, p) rows: storage |c| / M and the jumps J (storage_row).
 !> A type that extends poro_media_t has them as its own components.
 module poro_media
-  use kinds, only: rp, ip
+  use kinds, only: rp, ip, gp
+  use strings, only: itoa
   use error_status, only: error_status_t
   use csr_matrix, only: csr_matrix_t
   use index_map, only: index_map_t
@@ -22,7 +23,7 @@ module poro_media
   use quadrature, only: gauss_hex
   use hex_q1, only: hex_gradients, inverse3
   use hex_rt0, only: rt0_cell_mass, rt0_cell_divergence, rt0_orient, rt0_values
-  use elasticity, only: lame
+  use elasticity, only: lame, point_block
   use material_config, only: material_config_t
   use boundary_config, only: boundary_config_t
   use source_config, only: source_config_t
@@ -35,7 +36,7 @@ module poro_media
   type :: poro_media_t
     real(rp), allocatable :: biot(:), inv_m(:), kdr(:), kinv(:,:,:)   !< per region
     real(rp), allocatable :: vol(:)           !< local cell volumes [m^3]
-    real(rp), allocatable :: src_rate(:)      !< fluid source per region [1/s]
+    real(rp), allocatable :: src_rate(:)      !< fluid source per local cell [1/s]
     logical, allocatable :: q_fixed(:)        !< local faces with a prescribed flux (0 = no flow)
     real(rp), allocatable :: q_value(:)       !< prescribed flux through local faces [m^3/s]
     real(rp), allocatable :: p_bc(:)          !< pressure of pressure faces [Pa], by local face
@@ -125,14 +126,17 @@ contains
     end do
   end subroutine region_materials
 
-  !> The &source rates per region.
+  !> The &source rates per local cell (a group with a point: the cells of
+  !> its region in the point's fault block; groups add up). Collective.
   subroutine region_sources(self, mesh, srcs, status)
     class(poro_media_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     type(source_config_t), intent(in) :: srcs(:)
     type(error_status_t), intent(inout) :: status
-    integer(ip) :: r, i
-    allocate(self%src_rate(size(mesh%region_names)))
+    integer(ip) :: r, i, c, rpt
+    integer(gp) :: blk
+    character(len=:), allocatable :: where
+    allocate(self%src_rate(mesh%n_cells))
     self%src_rate = 0.0_rp
     do i = 1, size(srcs, kind=ip)
       r = mesh%region_id(srcs(i)%region)
@@ -141,7 +145,21 @@ contains
                         '(its regions: '//mesh%region_list()//')')
         return
       end if
-      self%src_rate(r) = self%src_rate(r) + srcs(i)%rate
+      blk = 0
+      if (srcs(i)%has_point) then
+        where = '&source '//itoa(int(i))//" (region '"//trim(srcs(i)%region)//"'), variable point"
+        call point_block(mesh, srcs(i)%point, blk, rpt, status, where)
+        if (.not. status%ok()) return
+        if (rpt /= r) then
+          call status%set(where//": lies in region '"//trim(mesh%region_names(rpt))//"'")
+          return
+        end if
+      end if
+      do c = 1, mesh%n_cells
+        if (mesh%cell_region(c) /= r) cycle
+        if (srcs(i)%has_point .and. mesh%cell_block(c) /= blk) cycle
+        self%src_rate(c) = self%src_rate(c) + srcs(i)%rate
+      end do
     end do
   end subroutine region_sources
 

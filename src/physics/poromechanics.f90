@@ -219,7 +219,7 @@ contains
       end do
       ! sources; the pressure-jump stabilization on the pressure increment
       ! (the storage and J of the (p, p) block: pressure_block)
-      self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) + dt * self%src_rate(r) * self%vol(c)
+      self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) + dt * self%src_rate(c) * self%vol(c)
       do j = 1, 6
         f = faces(j)
         if (self%jump_w(f) == 0.0_rp) cycle

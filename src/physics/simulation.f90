@@ -284,8 +284,9 @@ contains
     if (status%ok()) call check_in_situ(self, d, status)
     if (.not. status%ok()) return
     ! the equilibrium step of the in-situ state (Biot: its layers are in
-    ! equilibrium by construction, and its step 0 is the undrained one)
-    self%initial_step = self%geo%on .and. .not. flow_conditions
+    ! equilibrium by construction, and its step 0 is the undrained one;
+    ! with faults, step 0 balances it with the faults bonded)
+    self%initial_step = self%geo%on .and. (with_faults .or. .not. flow_conditions)
     if (flow_conditions) then
       allocate(self%pcs(0))
       if (d%count('pressure_change') > 0) then
