@@ -184,6 +184,9 @@ def sign(args):
 
 
 if __name__ == '__main__':
+    if len(sys.argv) > 1 and sys.argv[1] in ('-h', '--help'):
+        print(__doc__.replace('Usage:', 'usage:'))
+        sys.exit(0)
     if len(sys.argv) < 3 or sys.argv[1] not in ('compartment', 'faults', 'picture', 'sign'):
         sys.exit(__doc__)
     {'compartment': compartment, 'faults': faults, 'picture': picture, 'sign': sign}[sys.argv[1]](sys.argv[2:])
