@@ -12,14 +12,16 @@
 #     here): the contact preconditioners' diagnostics (stronger AMG, exact
 #     inner solves of S*), the fluid in the fractures on 4 and 2 m cells
 #     (MUMPS: 11 minutes of factorizations), the Treporti and Reservoir
-#     stand-ins at the seed's sizes, HI24L up to its full size (16 GB)
+#     stand-ins at the seed's sizes, HI24L up to its full size (16 GB),
+#     poromechanics with faults on 8^3 to 32^3 cells (MUMPS at 32^3: about
+#     20 minutes of factorizations), the coupled field case
 # The two tiers together took more than this machine's 3-hour sessions;
 # each fits in one.
 # Usage: bench/run_all.sh [standard | large | script ...]   (default: standard)
 set -u
 cd "$(dirname "$0")/.."
 standard="run_bench.sh run_bench_biot.sh run_bench_peers.sh run_bench_scaling.sh run_bench_contact.sh run_bench_fsai.sh run_bench_robustness.sh"
-large="run_bench_contact_diagnostics.sh run_bench_flow.sh run_bench_standins.sh run_bench_hi24l.sh run_bench_field_coupled.sh"
+large="run_bench_contact_diagnostics.sh run_bench_flow.sh run_bench_standins.sh run_bench_hi24l.sh run_bench_poro_faults.sh run_bench_field_coupled.sh"
 report=build/bench/REPORT.md
 case "${1:-standard}" in
   standard) scripts=$standard ;;

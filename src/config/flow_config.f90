@@ -86,6 +86,9 @@ module flow_config
     character(len=name_len) :: pressure_precon = 'boomeramg'
     character(len=name_len) :: pressure_block = 'eliminated'
     logical :: subspace_correction = .true.
+    !> pressure_block or pressure_precon given in the deck (physics
+    !> 'poromechanics_faults' has its own pressure group and refuses them)
+    logical :: block_choice_given = .false.
   contains
     procedure :: read => read_flow_config
     procedure :: describe => describe_flow_config
@@ -206,11 +209,17 @@ contains
     subspace_correction = self%subspace_correction
     if (d%count('fracture_flow') == 1) then
       call d%block('fracture_flow', 1, b)
+      ! sentinels: was either solver choice given?
+      pressure_precon = char(0)
+      pressure_block = char(0)
       read(b, nml=fracture_flow, iostat=ios, iomsg=msg)
       if (ios /= 0) then
         call d%read_error('fracture_flow', 1, ios, msg, status)
         return
       end if
+      self%block_choice_given = pressure_precon /= char(0) .or. pressure_block /= char(0)
+      if (pressure_precon == char(0)) pressure_precon = self%pressure_precon
+      if (pressure_block == char(0)) pressure_block = self%pressure_block
     end if
     if (.not. (viscosity > 0.0_rp)) call d%fail(status, 'fracture_flow', 1, 'viscosity', &
       'must be > 0 (got '//rtoa(viscosity)//')')
@@ -244,9 +253,11 @@ contains
                'of a closed fracture: 0 is refused while a fault starts closed with no &fracture_pressure)', &
                '[0, 1e-3)')
     call g%add('pressure_block', self%pressure_block, '-', "FGMRES: the pressure eliminated with the tractions "// &
-               "before the displacement (one AMG per iteration), or its Schur complement last (the seed's)", &
+               "before the displacement (one AMG per iteration), or its Schur complement last (the seed's); "// &
+               "refused with physics = 'poromechanics_faults'", &
                "'eliminated' or 'schur'")
-    call g%add('pressure_precon', self%pressure_precon, '-', "pressure_block = 'schur': preconditioner of S_p", &
+    call g%add('pressure_precon', self%pressure_precon, '-', "pressure_block = 'schur': preconditioner of S_p "// &
+               "(refused with physics = 'poromechanics_faults')", &
                "'boomeramg' or 'jacobi'")
     call g%add('subspace_correction', self%subspace_correction, '-', "FGMRES: the fractures' subspace "// &
                'correction before the block preconditioner (per element its pressure with its normal traction, AMG)')

@@ -36,7 +36,7 @@ module coupled_simulation
   use precon_factory, only: precon_params_t
   use mgr_precon, only: mgr_precon_t, mgr_contact, mgr_flow, mgr_poro_faults
   use simulation, only: simulation_t, foreign_len, common_parameter_groups, step_stats_t
-  use physics_component, only: physics_component_t, coupling_t, field_len, hold_tol
+  use physics_component, only: physics_component_t, coupling_t, field_len
   use interface_contact, only: interface_contact_t, interface_contact_of
   use fracture_flow_component, only: fracture_flow_component_t, fracture_flow_of
   implicit none
@@ -694,7 +694,6 @@ contains
     self%residual_ratio = maxval(res / max(tol, tiny(1.0_rp)))
     converged = all(ok) .and. self%changes == 0
     if (self%changes > 0) why = trim(why)//', '//itoa(int(self%changes))//' status change(s) in the last update'
-    call held_check(self, converged, why)
     call update_check(self, converged, why)
     if (len_trim(why) > 0) why = 'residual after the last update: '//why(3:)
     if (.not. converged) return
@@ -716,29 +715,6 @@ contains
       call self%slots(k)%c%status_notes(self%ctx, log)
     end do
   end subroutine check_residual
-
-  !> An element held in its status after max_flips changes is accepted
-  !> only where it sits on its limit: violated by at most hold_tol (a
-  !> traction over the largest on the faults, an overlap over the largest
-  !> jump). Beyond, the held status is wrong, not degenerate: the answer
-  !> would break the contact conditions, so the step does not converge.
-  subroutine held_check(self, converged, why)
-    type(coupled_simulation_t), intent(in) :: self
-    logical, intent(inout) :: converged
-    character(len=*), intent(inout) :: why
-    character(len=msg_len) :: what
-    real(rp) :: excess
-    integer :: k
-    excess = 0.0_rp
-    do k = 1, size(self%slots)
-      excess = max(excess, self%slots(k)%c%held_excess)
-    end do
-    if (excess <= hold_tol) return
-    converged = .false.
-    write(what, '(es9.2)') excess
-    why = trim(why)//', an element held in its status violates it by '//trim(adjustl(what))// &
-          ' (relative; at most '//trim(rtoa(hold_tol))//')'
-  end subroutine held_check
 
   !> A component's update_test fields (the fracture flow's: u and p), after
   !> an inexact (Krylov) solve: the residual does not bound the error of the

@@ -150,6 +150,12 @@ contains
       ! with the matrix's fluid (poromechanics_faults) the pressures are
       ! changes from the hydrostatic one, as biot's; alone, not yet
       with_matrix = associated(ctx%find('matrix_flow'))
+      if (with_matrix .and. self%fcfg%block_choice_given) then
+        call status%set("deck '"//trim(d%path)//"', group &fracture_flow, variables pressure_block and "// &
+          "pressure_precon: physics = 'poromechanics_faults' puts the fracture pressure in one group with the "// &
+          "matrix pressure (its S_P, &solver schur and schur_precon); remove them")
+        return
+      end if
       if (sim%geo%on .and. .not. with_matrix) call status%set("deck '"//trim(d%path)// &
         "': &geostatic is not available for physics = 'fracture_flow' yet (elasticity, contact, biot and "// &
         "poromechanics_faults have it)")

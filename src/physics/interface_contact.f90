@@ -109,6 +109,7 @@ module interface_contact
     integer(gp), allocatable :: held(:)            !< per fault (of faults(:)): elements held in their status at the last update
     integer(gp), allocatable :: held_open(:)       !< the same, held between open and closed
     integer(gp) :: changes = 0                     !< status changes of the last update
+    integer(gp) :: moves(3, 3) = 0                 !< (from, to) status changes of the last update
     real(rp), allocatable :: trac(:,:), trac_step(:,:)     !< (3,n) local-frame traction [Pa]
     real(rp), allocatable :: jump(:,:), jump_step(:,:)     !< (3,n) local-frame mean jump [m]
     !> (n) |B| |u| / A of the normal jump: the size of the displacements it
@@ -521,8 +522,23 @@ contains
     n = self%count_states(ctx%mesh)
     write(piece, '(a,i0,a,3(i0,a))') '  status changes ', self%changes, &
       '  stick/slip/open ', n(1), '/', n(2), '/', n(3), ''
-    line = trim(line)//trim(update_piece('t', rel(1)))//piece
+    line = trim(line)//trim(update_piece('t', rel(1)))//trim(piece)//moves_text(self%moves)
   end subroutine iteration_note
+  !> The nonzero (from, to) counts of an update, e.g. ' (slip>stick 226, slip>open 123)';
+  !> empty without changes.
+  function moves_text(m) result(t)
+    integer(gp), intent(in) :: m(3, 3)
+    character(len=:), allocatable :: t
+    integer :: a, b
+    t = ''
+    do a = 1, 3
+      do b = 1, 3
+        if (m(a, b) == 0) cycle
+        t = t//', '//trim(state_names(a))//'>'//trim(state_names(b))//' '//itoa(int(m(a, b)))
+      end do
+    end do
+    if (len(t) > 0) t = ' ('//t(3:)//')'
+  end function moves_text
 
   !> x_t (by field) and the statuses; with &geostatic, the jumps of step 0.
   subroutine save_state(self, ctx, st)
@@ -1068,6 +1084,7 @@ contains
     end do
     t_open = self%ccfg%open_fraction * comm%max(t_open)
     changed = 0
+    self%moves = 0
     if (.not. allocated(self%held)) allocate(self%held(size(self%faults)), self%held_open(size(self%faults)))
     self%held = 0
     self%held_open = 0
@@ -1141,12 +1158,21 @@ contains
           self%flips(e) = self%flips(e) + 1
         end if
       end if
-      if (new /= self%state(e)) changed = changed + 1
+      if (new /= self%state(e)) then
+        changed = changed + 1
+        self%moves(self%state(e), new) = self%moves(self%state(e), new) + 1
+      end if
       self%fresh(e) = new == state_slip .and. self%state(e) == state_stick
       if (new == state_slip) self%slipped(e) = .true.
       self%state(e) = new
     end do
     changed = comm%sum(changed)
+    block
+      integer(gp) :: flat(9)
+      flat = reshape(self%moves, [9])
+      call comm%sum_all(flat)
+      self%moves = reshape(flat, [3, 3])
+    end block
     self%held_excess = comm%max(self%held_excess)
     do f = 1, size(self%held)
       self%held(f) = comm%sum(self%held(f))
