@@ -25,8 +25,8 @@
 #   LIMIT=seconds stops a run after that long (default: no limit); REUSE=1
 #   rewrites the report from the runs already there (no new run).
 # The coupled run's solver: FGMRES with the block preconditioner as the
-# deck sets it (without the fractures' subspace correction, with which it
-# stalls here; doc/poromechanics_faults.md), or MUMPS.
+# deck sets it (without the fractures' subspace correction, as its figures
+# were measured; doc/poromechanics_faults.md), or MUMPS.
 set -u
 cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
