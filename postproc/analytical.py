@@ -1,4 +1,5 @@
-"""Analytical solutions of Terzaghi's, Mandel's and Cryer's consolidation problems.
+"""Analytical solutions of Terzaghi's, Mandel's and Cryer's consolidation problems,
+and of a pressure-controlled source in a column (SourceColumn).
 
 Reference solutions for geoblock's verification tests and plots. Needs only
 numpy (Debian python3-numpy); the example plot also needs matplotlib
@@ -932,6 +933,72 @@ class Cryer(_Consolidation):
             U[pos] = self.R * self.p0 * self._series(rho[pos], T[pos], tol, ["u"], dt)["u"]
         u = rho * self.R * g / (3.0 * p.K_v) + p.b / p.K_v * U
         return u.reshape(shape)
+
+
+# --------------------------------------------------------------------------
+# A pressure-controlled source in a column (steady state)
+# --------------------------------------------------------------------------
+
+class SourceColumn:
+    """Steady flow in a column 0 < z < L, closed at z = 0, held at p_b at
+    z = L, whose part z < a is a pressure-controlled source: the rock there
+    takes I (p_w - p) per unit volume and second (geoblock's &source with
+    pressure p_w and index I). With m^2 = I mu / k, Darcy's law and the mass
+    balance (k/mu) p'' = I (p - p_w) (z < a), p'' = 0 (z > a), p'(0) = 0,
+    p(L) = p_b, and p and p' continuous at a give
+        p = p_w + A cosh(m z)               (z <= a)
+        p = p_b - A m sinh(m a) (L - z)     (z >= a)
+        A = (p_b - p_w) / (cosh(m a) + m (L - a) sinh(m a)),
+    and the source's rate per unit area of the column, the outflow at L,
+        Q = -I A sinh(m a) / m = -(k/mu) A m sinh(m a)    [m/s].
+    As I grows the source holds its part at p_w and Q tends to
+    (k/mu) (p_w - p_b) / (L - a)."""
+
+    def __init__(self, L, a, p_w, p_b, index, mobility):
+        if not (0.0 < a < L and index > 0.0 and mobility > 0.0):
+            raise ValueError("SourceColumn needs 0 < a < L, index > 0 and k/mu > 0")
+        self.L, self.a, self.p_w, self.p_b = float(L), float(a), float(p_w), float(p_b)
+        self.index, self.mobility = float(index), float(mobility)
+        self.m = math.sqrt(self.index / self.mobility)
+        # A = (p_b - p_w) e^(-m a) 2 / D and the slope outside,
+        # G = A m sinh(m a), without overflow for a large m a
+        e2 = math.exp(-2.0 * self.m * self.a)
+        self._D = 1.0 + e2 + self.m * (self.L - self.a) * (1.0 - e2)
+        self.G = (self.p_b - self.p_w) * self.m * (1.0 - e2) / self._D
+
+    def _cosh_part(self, z):
+        """A cosh(m z) for 0 <= z <= a."""
+        return (self.p_b - self.p_w) * (np.exp(self.m * (z - self.a)) + np.exp(-self.m * (z + self.a))) / self._D
+
+    def _sinh_part(self, z):
+        """A sinh(m z) / m for 0 <= z <= a."""
+        return (self.p_b - self.p_w) * (np.exp(self.m * (z - self.a)) - np.exp(-self.m * (z + self.a))) / \
+            (self.m * self._D)
+
+    def pressure(self, z):
+        z = np.asarray(z, dtype=float)
+        inner = self.p_w + self._cosh_part(np.clip(z, 0.0, self.a))
+        outer = self.p_b - self.G * (self.L - z)
+        return np.where(z <= self.a, inner, outer)
+
+    def cell_average(self, z0, z1):
+        """The mean of p over [z0, z1] (a cell), exactly."""
+        z0, z1 = np.asarray(z0, dtype=float), np.asarray(z1, dtype=float)
+        return self.integral(z0, z1) / (z1 - z0)
+
+    def integral(self, z0, z1):
+        """The integral of p over [z0, z1] (0 <= z0 < z1 <= L)."""
+        def prim(z):
+            zi = np.minimum(z, self.a)
+            zo = np.maximum(z, self.a)
+            inner = self.p_w * zi + self._sinh_part(zi)
+            outer = self.p_b * (zo - self.a) + self.G * 0.5 * ((self.L - zo) ** 2 - (self.L - self.a) ** 2)
+            return inner + outer
+        return prim(z1) - prim(z0)
+
+    def rate(self):
+        """The source's rate per unit area of the column [m/s]."""
+        return -self.mobility * self.G
 
 
 # --------------------------------------------------------------------------

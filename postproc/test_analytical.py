@@ -1,4 +1,5 @@
-"""Self-check of postproc/analytical.py (Terzaghi, Mandel and Cryer solutions).
+"""Self-check of postproc/analytical.py (Terzaghi, Mandel and Cryer solutions, the
+pressure-controlled source in a column).
 
 Run with Debian's Python (numpy, matplotlib):
     /usr/bin/python3 postproc/test_analytical.py
@@ -510,6 +511,46 @@ def check_cryer(s):
     s.raises("b = 0 rejected", lambda: A.Cryer(A.PoroParams(1e9, 0.2, 0.0, 1e10, 1e-15, 1e-3), 1.0, 1.0))
 
 
+def check_source_column(s):
+    """SourceColumn against the equations it solves (finite differences, a
+    quadrature of the source) and its limit of a held source."""
+    L, a, pw, pb, idx, mob = 12.0, 4.0, 3.0e6, 0.5e6, 2.0e-11, 3.0e-11
+    sc = A.SourceColumn(L, a, pw, pb, idx, mob)
+    h = 1e-3
+    zi = np.linspace(0.3, a - 0.3, 7)
+    zo = np.linspace(a + 0.3, L - 0.3, 7)
+    lhs_i = np.array([mob * d2(sc.pressure, z, h) for z in zi])
+    rhs_i = idx * (sc.pressure(zi) - pw)
+    s.check(np.allclose(lhs_i, rhs_i, rtol=1e-5, atol=1e-9 * idx * abs(pw - pb)),
+            "source column: (k/mu) p'' = I (p - p_w) in the source (finite differences)")
+    s.check(np.allclose([d2(sc.pressure, z, h) for z in zo], 0.0, atol=1e-7 * abs(pw - pb) / L ** 2),
+            "source column: p'' = 0 outside the source")
+    hf = 1e-4
+    slope0 = (-3.0 * sc.pressure(0.0) + 4.0 * sc.pressure(hf) - sc.pressure(2.0 * hf)) / (2.0 * hf)
+    s.check(abs(slope0) < 1e-6 * abs(pw - pb) / L, "source column: no flow at z = 0 (one-sided difference)")
+    s.check(abs(float(sc.pressure(L)) - pb) < 1e-9 * abs(pw - pb), "source column: p = p_b at z = L")
+    jump = abs(float(sc.pressure(a - 1e-9)) - float(sc.pressure(a + 1e-9)))
+    slopes = (d1(sc.pressure, a - 2e-3, 1e-3), d1(sc.pressure, a + 2e-3, 1e-3))
+    s.check(jump < 1e-6 * abs(pw - pb) and abs(slopes[0] - slopes[1]) < 1e-2 * abs(slopes[1]),
+            "source column: p and p' continuous at z = a")
+    g, w = np.polynomial.legendre.leggauss(40)
+    zq = 0.5 * a * (g + 1.0)
+    inflow = 0.5 * a * np.sum(w * idx * (pw - sc.pressure(zq)))
+    outflow = -mob * d1(sc.pressure, L - 1e-3, 1e-3)
+    s.check(abs(inflow - sc.rate()) < 1e-10 * abs(sc.rate()) and abs(outflow - sc.rate()) < 1e-6 * abs(sc.rate()),
+            f"source column: rate {sc.rate():.6e} m/s = the source's integral = the outflow at z = L")
+    z0 = np.array([0.0, 3.5, 3.9, 9.0])
+    z1 = np.array([0.7, 4.5, 4.1, 12.0])
+    quad = np.array([0.5 * np.sum(w * sc.pressure(0.5 * (lo + hi) + 0.5 * (hi - lo) * g))
+                     for lo, hi in zip(z0, z1)])
+    s.check(np.allclose(sc.cell_average(z0, z1), quad, rtol=0, atol=1e-6 * abs(pw - pb)),
+            "source column: cell averages (across z = a too) against Gauss quadrature")
+    held = A.SourceColumn(L, a, pw, pb, 1e8 * idx, mob)
+    s.check(abs(held.rate() - mob * (pw - pb) / (L - a)) < 1e-3 * abs(held.rate())
+            and abs(float(held.pressure(0.5 * a)) - pw) < 1e-6 * abs(pw - pb),
+            "source column: a large index holds the source at p_w, Q -> (k/mu)(p_w - p_b)/(L - a)")
+
+
 def check_plot(s):
     print("plot")
     try:
@@ -534,7 +575,8 @@ def main():
                             "per check and a summary.").parse_args()
     s = Suite("analytical")
     np.seterr(all="raise", under="ignore")
-    for part in (check_params, check_terzaghi, check_roots, check_mandel, check_cryer, check_plot):
+    for part in (check_params, check_terzaghi, check_roots, check_mandel, check_cryer, check_source_column,
+                 check_plot):
         try:
             part(s)
         except Exception as e:  # noqa: BLE001  a crash counts as a failure

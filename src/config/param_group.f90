@@ -51,6 +51,7 @@ module param_group
     generic :: add => add_real, add_reals, add_int, add_ints, add_logical, add_string, add_strings
     procedure :: add_unset
     procedure :: add_bounds
+    procedure :: add_optional
     procedure :: drop
     procedure :: echo
     procedure :: lines
@@ -207,6 +208,21 @@ contains
       end if
     end do
   end subroutine add_bounds
+
+  !> An optional array (a point): its values when the run gives them
+  !> (has), else `shown` (what leaving it out means).
+  subroutine add_optional(self, name, has, values, shown, unit, meaning, allowed)
+    class(param_group_t), intent(inout) :: self
+    character(len=*), intent(in) :: name, shown, unit, meaning
+    logical, intent(in) :: has
+    real(rp), intent(in) :: values(:)
+    character(len=*), intent(in), optional :: allowed
+    if (has) then
+      call self%add(name, values, unit, meaning, allowed)
+    else
+      call self%add_unset(name, shown, unit, meaning, array_kind('real', size(values)), allowed)
+    end if
+  end subroutine add_optional
 
   !> 'real(3)' for an array of 3 reals, or the kind the caller gives.
   function array_kind(base, n, kind) result(k)

@@ -131,12 +131,7 @@ contains
     call g%add('value', self%value, 'Pa', 'change of pore pressure at full load, grown with the load like the '// &
                'other loads (negative: depletion)')
     call g%add('history', absolute_path(self%history), '-', "file of 'time factor' rows scaling value ('': none)")
-    if (self%has_point) then
-      call g%add('point', self%point, 'm', 'restricts the change to the fault block of the region that holds '// &
-                 'this point', 'inside the region')
-    else
-      call g%add_unset('point', '(none: all of the region)', 'm', 'restricts the change to the fault block of '// &
-                       'the region that holds this point', 'real(3)', 'inside the region')
-    end if
+    call g%add_optional('point', self%has_point, self%point, '(none: all of the region)', 'm', 'restricts the '// &
+                        'change to the fault block of the region that holds this point', 'inside the region')
   end subroutine describe_pressure_change
 end module pressure_change_config

@@ -44,14 +44,18 @@ module deck_catalogue
   end type example_t
 
   !> Defaults that depend on the deck rather than on the reader.
-  character(len=160), parameter :: fixed_defaults(4) = [character(len=160) :: &
+  character(len=160), parameter :: fixed_defaults(8) = [character(len=160) :: &
     'run%physics=''elasticity''', &
     'output%prefix=(the deck''s file name without its extension)', &
     'probe%name=(''probe<k>'', k the number of the &probe group)', &
-    'fault%dip_axis=(the first axis other than normal_axis)']
+    'fault%dip_axis=(the first axis other than normal_axis)', &
+    'source%name=(''source<k>'', k the number of the &source group)', &
+    'source%rate=(required unless pressure is given)', &
+    'source%pressure=(required unless rate is given)', &
+    'source%index=(required with pressure)']
 
   !> The examples of the groups a base deck leaves out, in deck order.
-  type(example_t), parameter :: examples(18) = [ &
+  type(example_t), parameter :: examples(19) = [ &
       example_t("&region name = 'lower_part', upper(3) = 0.5 /", ''), &
       example_t("&region name = 'upper_part', lower(3) = 0.5 /", ''), &
       example_t("&boundary set = 'zmin', type = 'displacement', ux = 0.0 /", ''), &
@@ -64,6 +68,7 @@ module deck_catalogue
       example_t("&pressure_change region = 'lower_part', value = -1.0e6 /", ''), &
       example_t("&pressure_change region = 'upper_part', value = -1.0e6, point = 0.5, 0.5, 0.75 /", ''), &
       example_t("&source region = 'domain', rate = 1.0e-6 /", ''), &
+      example_t("&source region = 'upper_part', name = 'producer', pressure = 1.0e6, index = 1.0e-10 /", ''), &
       example_t("&fault name = 'disc', position = 0.25, radius = 0.2, centre = 0.5, 0.25, 0.5 /", ''), &
       example_t("&well name = 'w1', point = 0.5, 0.5, 0.5, rate = 1.0e-6 /", ''), &
       example_t("&well name = 'w2', segment = 0.5, 0.0, 0.5, 0.5, 1.0, 0.5, rate = 1.0e-6 /", ''), &

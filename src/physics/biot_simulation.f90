@@ -378,11 +378,16 @@ contains
     names = [character(len=8) :: 'ux', 'uy', 'uz', 'p', 'sxx', 'syy', 'szz', 'sxy', 'syz', 'sxz']
   end subroutine probe_names
 
+  !> The probes' fields, and the rate of each pressure-controlled source
+  !> (its column). Collective.
   subroutine sample(self, pf, status)
     class(biot_simulation_t), intent(inout) :: self
     type(probe_fields_t), intent(inout) :: pf
     type(error_status_t), intent(inout) :: status
+    integer(ip) :: p0, p1
     call solid_fields(self, pf%u, pf%p, pf%stress)
+    call self%phys%sys%block_range(ipr, p0, p1)
+    call self%phys%source_rates(self%mesh, self%phys%x(p0:p1), pf%names, pf%values)
   end subroutine sample
 
   !> The step line: iterations, residual, local mass balance, the two set-up

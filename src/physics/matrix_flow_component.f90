@@ -6,9 +6,10 @@
 !> dt from the step's start (u^s, p^s):
 !>   Darcy (face f)   A q - B p + (p_bar on pressure faces) + (fault term) = 0
 !>   mass (cell c)    Q^T (u - u^s) + dt B^T q + (P + J)(p - p^s) - dt s |c| = 0
-!> and its coupling in the momentum rows, -Q p (Biot's effective stress:
-!> the mechanics' K u is the effective stress's, the total is
-!> sigma' - b p I); A, B, Q, P = |c|/M and the pressure-jump stabilization
+!> (s the &source rate, or I (p_w - p) for a pressure-controlled source of
+!> index I: dt I |c| joins P) and its coupling in the momentum rows, -Q p
+!> (Biot's effective stress: the mechanics' K u is the effective stress's,
+!> the total is sigma' - b p I); A, B, Q, P = |c|/M and the pressure-jump stabilization
 !> J are those of poromechanics.f90.
 !> On a fault face f of cell c (sign s_f of the face's global normal to
 !> c's outward one), with p_f the fracture's pressure of the interface
@@ -471,7 +472,7 @@ contains
         do j = 1, 6
           call sys%a(bm, bq)%add_value(c, mesh%cell_faces(j, c), ctx%dt * self%be(j, c))
         end do
-        call self%med%storage_row(mesh, c, sys%a(bm, bm))
+        call self%med%storage_row(mesh, c, ctx%dt, sys%a(bm, bm))
       end do
       do e = 1, mesh%iface_map%n_owned
         if (self%fc%held(e)) cycle
@@ -547,7 +548,10 @@ contains
       do c = 1, n
         t1 = dot_product(self%qe(:, c), u(self%dofs(:, c)) - us(self%dofs(:, c)))
         m1 = dot_product(abs(self%qe(:, c)), abs(u(self%dofs(:, c))) + abs(us(self%dofs(:, c))))
-        src = ctx%dt * self%med%src_rate(c) * self%med%vol(c)
+        ! the sources' fluid: the rate ones', and the pressure-controlled
+        ! ones' dt |c| I (p_w - p) less its part in t3, dt I |c| (p - p^s)
+        src = ctx%dt * self%med%vol(c) * (self%med%src_rate(c) + self%med%src_jp(c) - &
+                                          self%med%src_index(c) * self%p_step(c))
         ctx%rhs(p0 + c - 1) = -(t1 + t2(c) + t3(c) - src)
         self%mass_mag(c) = abs(t1) + abs(t2(c)) + abs(t3(c)) + abs(src)
         self%mass_noise(c) = m1 + m2(c) + m3(c) + abs(src)
@@ -700,8 +704,9 @@ contains
     names = [character(len=8) :: 'p']
   end subroutine probe_names
 
-  !> The cell pressure for the probes, and per fault the leak-off from the
-  !> matrix [m^3/s]. Collective.
+  !> The cell pressure for the probes, per fault the leak-off from the
+  !> matrix [m^3/s], and the rate of each pressure-controlled source.
+  !> Collective.
   subroutine sample(self, ctx, pf, status)
     class(matrix_flow_component_t), intent(inout) :: self
     type(coupling_t), intent(in) :: ctx
@@ -724,6 +729,7 @@ contains
       pf%names = [pf%names, [character(len=scalar_name_len) :: trim(ctx%mesh%fault_names(k))//':leakoff [m3/s]']]
       pf%values = [pf%values, per_fault(k)]
     end do
+    call self%med%source_rates(ctx%mesh, self%p, pf%names, pf%values)
   end subroutine sample
 
   !> The step's mass balance: the largest residual of the mass rows of the

@@ -2,17 +2,19 @@
 !> three-field Biot physics (poromechanics.f90, 'biot') and the matrix
 !> flow of a composition (matrix_flow_component.f90,
 !> 'poromechanics_faults'): per region the Biot coefficient b, 1/M, the
-!> drained bulk modulus and mu k^-1; per cell its volume and source rate;
+!> drained bulk modulus and mu k^-1; per cell its volume, source rate and
+!> pressure-controlled sources' index and pressure;
 !> per face the flux boundary data (impermeable unless a pressure or flux
 !> condition says otherwise) and the weights of the pressure-jump
 !> stabilization; and the cell kernels:
 !>   Q_e(u_ai) = b int_c dN_a/dx_i                   (cell_coupling)
 !>   A_e(f, f') = int_c psi_f . mu k^-1 psi_f',  B_e(f) = int_c div psi_f
 !>                in the global face orientation     (cell_darcy)
-!>   the (p, p) rows: storage |c| / M and the jumps J (storage_row).
+!>   the (p, p) rows: storage |c| / M, the jumps J and the pressure-
+!>   controlled sources' dt index |c| (storage_row).
 !> A type that extends poro_media_t has them as its own components.
 module poro_media
-  use kinds, only: rp, ip, gp
+  use kinds, only: rp, ip, gp, name_len
   use strings, only: itoa
   use error_status, only: error_status_t
   use csr_matrix, only: csr_matrix_t
@@ -37,6 +39,15 @@ module poro_media
     real(rp), allocatable :: biot(:), inv_m(:), kdr(:), kinv(:,:,:)   !< per region
     real(rp), allocatable :: vol(:)           !< local cell volumes [m^3]
     real(rp), allocatable :: src_rate(:)      !< fluid source per local cell [1/s]
+    !> pressure-controlled sources per local cell: the sum of their indices
+    !> [1/(Pa s)] and of index times pressure [1/s]; the cell takes
+    !> |c| (src_jp - src_index p_c) [m^3/s]
+    real(rp), allocatable :: src_index(:), src_jp(:)
+    !> the pressure-controlled sources: names, index, pressure, and their
+    !> owned cells (pcells(first(k):first(k+1)-1))
+    character(len=name_len), allocatable :: psrc_name(:)
+    real(rp), allocatable :: psrc_index(:), psrc_p(:)
+    integer(ip), allocatable :: psrc_first(:), psrc_cells(:)
     logical, allocatable :: q_fixed(:)        !< local faces with a prescribed flux (0 = no flow)
     real(rp), allocatable :: q_value(:)       !< prescribed flux through local faces [m^3/s]
     real(rp), allocatable :: p_bc(:)          !< pressure of pressure faces [Pa], by local face
@@ -62,6 +73,7 @@ module poro_media
     procedure :: storage_row
     procedure :: prescribed_flux
     procedure :: cell_velocity
+    procedure :: source_rates
     procedure :: free_media
   end type poro_media_t
 
@@ -126,18 +138,27 @@ contains
     end do
   end subroutine region_materials
 
-  !> The &source rates per local cell (a group with a point: the cells of
-  !> its region in the point's fault block; groups add up). Collective.
+  !> The &source rates, indices and pressures per local cell (a group with
+  !> a point: the cells of its region in the point's fault block; groups
+  !> add up), and each pressure-controlled source's owned cells.
+  !> Collective.
   subroutine region_sources(self, mesh, srcs, status)
     class(poro_media_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
     type(source_config_t), intent(in) :: srcs(:)
     type(error_status_t), intent(inout) :: status
-    integer(ip) :: r, i, c, rpt
+    integer(ip) :: r, i, c, rpt, k
     integer(gp) :: blk
+    integer(ip), allocatable :: cells(:)
     character(len=:), allocatable :: where
-    allocate(self%src_rate(mesh%n_cells))
+    allocate(self%src_rate(mesh%n_cells), self%src_index(mesh%n_cells), self%src_jp(mesh%n_cells))
     self%src_rate = 0.0_rp
+    self%src_index = 0.0_rp
+    self%src_jp = 0.0_rp
+    k = count(srcs%by_pressure)
+    allocate(self%psrc_name(k), self%psrc_index(k), self%psrc_p(k), self%psrc_first(k + 1), self%psrc_cells(0))
+    self%psrc_first(1) = 1
+    k = 0
     do i = 1, size(srcs, kind=ip)
       r = mesh%region_id(srcs(i)%region)
       if (r == 0) then
@@ -155,13 +176,52 @@ contains
           return
         end if
       end if
-      do c = 1, mesh%n_cells
-        if (mesh%cell_region(c) /= r) cycle
-        if (srcs(i)%has_point .and. mesh%cell_block(c) /= blk) cycle
-        self%src_rate(c) = self%src_rate(c) + srcs(i)%rate
-      end do
+      cells = pack([(c, c = 1, mesh%n_cells)], mesh%cell_region(1:mesh%n_cells) == r)
+      if (srcs(i)%has_point) cells = pack(cells, mesh%cell_block(cells) == blk)
+      if (srcs(i)%by_pressure) then
+        self%src_index(cells) = self%src_index(cells) + srcs(i)%index
+        self%src_jp(cells) = self%src_jp(cells) + srcs(i)%index * srcs(i)%pressure
+        k = k + 1
+        self%psrc_name(k) = srcs(i)%name
+        self%psrc_index(k) = srcs(i)%index
+        self%psrc_p(k) = srcs(i)%pressure
+        cells = pack(cells, cells <= mesh%cell_map%n_owned)
+        self%psrc_cells = [self%psrc_cells, cells]
+        self%psrc_first(k + 1) = size(self%psrc_cells, kind=ip) + 1
+      else
+        self%src_rate(cells) = self%src_rate(cells) + srcs(i)%rate
+      end if
     end do
   end subroutine region_sources
+
+  !> The rate each pressure-controlled source gives the rock at the owned
+  !> cells' pressures p [m^3/s] (negative: production), as probe columns
+  !> '<name>:rate [m3/s]'. Collective.
+  subroutine source_rates(self, mesh, p, names, values)
+    class(poro_media_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    real(rp), intent(in) :: p(:)
+    character(len=*), allocatable, intent(inout) :: names(:)
+    real(rp), allocatable, intent(inout) :: values(:)
+    real(rp), allocatable :: q(:)
+    integer(ip) :: k, c
+    integer :: i
+    allocate(q(size(self%psrc_name)))
+    q = 0.0_rp
+    do k = 1, size(q, kind=ip)
+      do i = self%psrc_first(k), self%psrc_first(k + 1) - 1
+        c = self%psrc_cells(i)
+        q(k) = q(k) + self%psrc_index(k) * self%vol(c) * (self%psrc_p(k) - p(c))
+      end do
+    end do
+    call mesh%comm%sum_all(q)
+    if (.not. allocated(names)) allocate(names(0))
+    if (.not. allocated(values)) allocate(values(0))
+    do k = 1, size(q, kind=ip)
+      names = [character(len=len(names)) :: names, trim(self%psrc_name(k))//':rate [m3/s]']
+      values = [values, q(k)]
+    end do
+  end subroutine source_rates
 
   !> Flux boundary data: impermeable unless a pressure or flux condition
   !> says otherwise.
@@ -262,7 +322,8 @@ contains
     end do
   end subroutine jump_weights
 
-  !> The weights of a step of size dt [s] into jump_w; .true. if they changed
+  !> The weights of a step of size dt [s] into jump_w; .true. if they or
+  !> the (p, p) block (dt index |c| of a pressure-controlled source) changed
   !> since the last call. Full size: jump_full. Adaptive: jump_full r^2 with
   !>   r = r0 / (1 + dt c_v / h_f^2)
   !>     = (b^2/M_c) / (b^2/M_c + 1/M + dt (k_n/mu) / h_f^2),
@@ -288,7 +349,8 @@ contains
   logical function jump_factor(self, dt) result(changed)
     class(poro_media_t), intent(inout) :: self
     real(rp), intent(in) :: dt
-    changed = self%jump_dt < 0.0_rp .or. (self%jump_adaptive .and. dt /= self%jump_dt)
+    changed = self%jump_dt < 0.0_rp .or. ((self%jump_adaptive .or. size(self%psrc_name) > 0) .and. &
+                                         dt /= self%jump_dt)
     if (.not. changed) return
     self%jump_dt = dt
     if (self%jump_adaptive) then
@@ -352,14 +414,16 @@ contains
     if (self%face_bc(f) > 0) prescribed_flux = prescribed_flux * self%bcs(self%face_bc(f))%factor(t)
   end function prescribed_flux
 
-  !> Row c (an owned cell) of the (p, p) block: storage |c| / M and the
-  !> stabilization J with the weights of jump_w, added to m.
-  subroutine storage_row(self, mesh, c, m)
+  !> Row c (an owned cell) of the (p, p) block of a step of size dt [s]:
+  !> storage |c| / M, the pressure-controlled sources' dt index |c| and
+  !> the stabilization J with the weights of jump_w, added to m.
+  subroutine storage_row(self, mesh, c, dt, m)
     class(poro_media_t), intent(in) :: self
     type(dist_mesh_t), intent(in) :: mesh
     integer(ip), intent(in) :: c
+    real(rp), intent(in) :: dt
     type(csr_matrix_t), intent(inout) :: m
-    call m%add_value(c, c, self%vol(c) * self%inv_m(mesh%cell_region(c)))
+    call m%add_value(c, c, self%vol(c) * (self%inv_m(mesh%cell_region(c)) + dt * self%src_index(c)))
     call self%add_jumps(mesh, c, m)
   end subroutine storage_row
 
@@ -443,7 +507,9 @@ contains
     class(poro_media_t), intent(inout) :: self
     if (allocated(self%biot)) deallocate(self%biot, self%inv_m, self%kdr, self%kinv)
     if (allocated(self%vol)) deallocate(self%vol)
-    if (allocated(self%src_rate)) deallocate(self%src_rate)
+    if (allocated(self%src_rate)) deallocate(self%src_rate, self%src_index, self%src_jp)
+    if (allocated(self%psrc_name)) deallocate(self%psrc_name, self%psrc_index, self%psrc_p, self%psrc_first, &
+                                              self%psrc_cells)
     if (allocated(self%q_fixed)) deallocate(self%q_fixed, self%q_value, self%p_face, self%p_bc, self%face_bc)
     if (allocated(self%bcs)) deallocate(self%bcs)
     if (allocated(self%a_norm)) deallocate(self%a_norm)

@@ -9,7 +9,9 @@
 !>
 !> K: elasticity (from elasticity_t), Q(u_ai, c) = b int_c dN_a/dx_i,
 !> A(f, f') = int psi_f . mu k^-1 psi_f', B(f, c) = int_c div psi_f (= +-1),
-!> P(c, c) = |c| / M, g = gamma = dt (0 for the undrained step).
+!> P(c, c) = |c| / M, g = gamma = dt (0 for the undrained step); a
+!> pressure-controlled source (index I, pressure p_w) has source = I (p_w -
+!> p): g I |c| joins P(c, c) and g I |c| p_w the right-hand side.
 !> Prescribed displacements and fluxes are eliminated symmetrically (their
 !> known values go to the right-hand side; their rows get a scaled identity);
 !> boundary faces without a pressure or flux condition are impermeable.
@@ -102,8 +104,9 @@ contains
 
 
 
-  !> The (p, p) block: storage |c| / M and the stabilization J with the
-  !> weights of jump_w. Collective.
+  !> The (p, p) block: storage |c| / M, the pressure-controlled sources'
+  !> dt I |c| and the stabilization J with the weights of jump_w (all of
+  !> the step size jump_dt). Collective.
   subroutine pressure_block(self, mesh)
     type(poromechanics_t), intent(inout) :: self
     type(dist_mesh_t), intent(in) :: mesh
@@ -111,7 +114,7 @@ contains
     associate (pp => self%sys%a(ipr, ipr))
       pp%val = 0.0_rp
       do c = 1, mesh%cell_map%n_owned
-        call self%storage_row(mesh, c, pp)
+        call self%storage_row(mesh, c, self%jump_dt, pp)
       end do
       call pp%finalize_assembly()
     end associate
@@ -219,7 +222,7 @@ contains
       end do
       ! sources; the pressure-jump stabilization on the pressure increment
       ! (the storage and J of the (p, p) block: pressure_block)
-      self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) + dt * self%src_rate(c) * self%vol(c)
+      self%rhs(p0 + c - 1) = self%rhs(p0 + c - 1) + dt * (self%src_rate(c) + self%src_jp(c)) * self%vol(c)
       do j = 1, 6
         f = faces(j)
         if (self%jump_w(f) == 0.0_rp) cycle

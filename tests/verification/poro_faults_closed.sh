@@ -22,25 +22,13 @@ set -u
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 . tests/common/vreport.sh
+. tests/common/suite.sh
 PY=${PYTHON:-/usr/bin/python3}
 CHECK=tests/verification/check_poro_faults_closed.py
 out=build/test-out/poro_faults_closed
 rm -rf "$out"; mkdir -p "$out"
-pass=0; fail=0
-ok() { echo "  ok    $1"; pass=$((pass + 1)); }
-ko() { echo "  FAIL  $1"; fail=$((fail + 1)); }
-# deck NAME SOURCE [sed expressions]: $out/NAME.nml writing into $out/NAME;
-# run NAME RANKS: bin/geoblock on it, its screen output in $out/NAME.log
-deck() { local n=$1 s=$2; shift 2; sed -e "s#dir = '[^']*'#dir = '$out/$n'#" "$@" "$s" > "$out/$n.nml"; }
+# run NAME RANKS: bin/geoblock on $out/NAME.nml (tests/common/suite.sh deck), its screen in $out/NAME.log
 run() { timeout 600 mpirun --oversubscribe -np "$2" bin/geoblock "$out/$1.nml" > "$out/$1.log" 2>&1 < /dev/null; }
-lines() {  # the checker's lines as checks; its exit status fails the suite too
-  local rc=$1 r=$2 what=$3
-  while read -r line; do
-    [ -z "$line" ] && continue
-    case "$line" in *FAIL*|*Traceback*|*rror:*) ko "$line" ;; *) ok "$line" ;; esac
-  done <<< "$r"
-  [ "$rc" -eq 0 ] || ko "$what checks (exit $rc)"
-}
 
 # 1. Mandel with a glued, transparent fault, and biot's uncut run
 $PY postproc/make_mandel_history.py "$out/mandel_plate.tab" 6e8 0.2 0.9 8e9 2e-14 1e-3 1 1 2e6 40 \
@@ -68,5 +56,4 @@ if run onset 2; then ok "injection into a fault run (2 ranks)"; else ko "injecti
 r=$($PY $CHECK onset "$out/onset" onset --tol 0.01 2>&1); rc=$?
 lines $rc "$r" "injection until slip"
 
-echo "suite poro_faults_closed: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish poro_faults_closed
