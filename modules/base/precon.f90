@@ -4,7 +4,7 @@
 !> preconditioner extends it. Set-up is specific to each type (it needs a
 !> matrix, a block system, parameters); application and release are common.
 module precon
-  use kinds, only: rp, ip, name_len
+  use kinds, only: rp, ip, gp, name_len
   implicit none
   private
 
@@ -12,6 +12,7 @@ module precon
 
   type, abstract :: precon_t
     real(rp) :: setup_time = 0.0_rp        !< seconds spent in the last set-up
+    integer(gp) :: setup_rise = 0          !< rise of the peak resident memory in the last set-up [bytes]
   contains
     procedure(apply_iface), deferred :: apply
     procedure(name_iface), deferred :: name
@@ -46,6 +47,7 @@ contains
   subroutine precon_free(self)
     class(precon_t), intent(inout) :: self
     self%setup_time = 0.0_rp
+    self%setup_rise = 0
   end subroutine precon_free
 
   subroutine identity_apply(self, r, z)

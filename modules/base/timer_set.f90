@@ -1,4 +1,8 @@
-!> Named wall-clock accumulators for the timing summary.
+!> Named wall-clock accumulators for the timing summary, each with the rise
+!> of the process's peak resident memory (VmHWM) while it ran: the sum of
+!> a rank's rises over its top-level timers is its peak, and each rise says
+!> which phase first needed the memory (a later phase that reuses freed
+!> memory shows none).
 module timer_set
   use kinds, only: rp, gp, name_len
   use parallel_comm, only: parallel_comm_t, wall_time
@@ -17,6 +21,8 @@ module timer_set
     real(rp) :: total(max_timers) = 0.0_rp
     real(rp) :: started(max_timers) = -1.0_rp
     integer :: calls(max_timers) = 0
+    integer(gp) :: hwm0(max_timers) = 0        !< peak resident bytes at the start
+    integer(gp) :: rise(max_timers) = 0        !< summed rises of the peak [bytes]
   contains
     procedure :: start
     procedure :: stop => stop_timer
@@ -49,6 +55,7 @@ contains
     integer :: i
     i = find(self, name)
     self%started(i) = wall_time()
+    self%hwm0(i) = peak_resident_bytes()
   end subroutine start
 
   !> Stop a timer; returns the seconds of this interval if asked.
@@ -63,19 +70,24 @@ contains
     if (self%started(i) >= 0.0_rp) dt = wall_time() - self%started(i)
     self%total(i) = self%total(i) + dt
     self%calls(i) = self%calls(i) + 1
+    if (self%started(i) >= 0.0_rp .and. self%hwm0(i) >= 0) &
+      self%rise(i) = self%rise(i) + max(peak_resident_bytes() - self%hwm0(i), 0_gp)
     self%started(i) = -1.0_rp
     if (present(seconds)) seconds = dt
   end subroutine stop_timer
 
-  !> Add an interval measured elsewhere (seconds) to a timer, as one call.
-  subroutine add(self, name, seconds)
+  !> Add an interval measured elsewhere (seconds, and the rise of the peak
+  !> resident memory in it [bytes]) to a timer, as one call.
+  subroutine add(self, name, seconds, rise)
     class(timer_set_t), intent(inout) :: self
     character(len=*), intent(in) :: name
     real(rp), intent(in) :: seconds
+    integer(gp), intent(in), optional :: rise
     integer :: i
     i = find(self, name)
     self%total(i) = self%total(i) + seconds
     self%calls(i) = self%calls(i) + 1
+    if (present(rise)) self%rise(i) = self%rise(i) + max(rise, 0_gp)
   end subroutine add
 
   real(rp) function elapsed(self, name)
@@ -103,5 +115,12 @@ contains
     write(line, '(a,i0,a,i0,a)') 'peak resident memory: ', comm%max(peak) / 2_gp**20, ' MB on the largest rank, ', &
       comm%sum(peak) / 2_gp**20, ' MB over all ranks'
     call log%info(line)
+    ! where the peak was reached: the timers whose phase raised it
+    call log%info('peak memory rise by phase (MB, largest over ranks; indented: parts of the line above)')
+    do i = 1, self%n
+      if (comm%max(self%rise(i)) < 2_gp**20) cycle
+      write(line, '(2x,a32,i12)') self%names(i), comm%max(self%rise(i)) / 2_gp**20
+      call log%info(line)
+    end do
   end subroutine report
 end module timer_set

@@ -9,7 +9,7 @@
 !> Krylov methods; a direct solver factorizes the operator itself when
 !> `changed` says it differs from the one it factorized last.
 module linear_system
-  use kinds, only: rp
+  use kinds, only: rp, gp
   use linear_operator, only: linear_operator_t
   use precon, only: precon_t
   use csr_matrix, only: csr_matrix_t
@@ -43,6 +43,7 @@ module linear_system
     integer :: n_parts = 0
     character(len=48) :: part_name(max_parts) = ''
     real(rp) :: part_time(max_parts) = 0.0_rp
+    integer(gp) :: part_rise(max_parts) = 0       !< rise of the peak resident memory in the part [bytes]
   contains
     procedure :: reset
     procedure :: add_part
@@ -61,14 +62,18 @@ contains
     self%n_parts = 0
   end subroutine reset
 
-  !> A component of the set-up and its seconds (ignored beyond max_parts).
-  subroutine add_part(self, name, seconds)
+  !> A component of the set-up, its seconds and the rise of the peak
+  !> resident memory in it [bytes] (ignored beyond max_parts).
+  subroutine add_part(self, name, seconds, rise)
     class(linear_system_t), intent(inout) :: self
     character(len=*), intent(in) :: name
     real(rp), intent(in) :: seconds
+    integer(gp), intent(in), optional :: rise
     if (self%n_parts == max_parts) return
     self%n_parts = self%n_parts + 1
     self%part_name(self%n_parts) = name
     self%part_time(self%n_parts) = seconds
+    self%part_rise(self%n_parts) = 0
+    if (present(rise)) self%part_rise(self%n_parts) = rise
   end subroutine add_part
 end module linear_system

@@ -10,6 +10,7 @@ module precon_factory
   use logger, only: logger_t
   use strings, only: itoa
   use csr_matrix, only: csr_matrix_t
+  use machine_memory, only: peak_resident_bytes
   use precon, only: precon_t, identity_precon_t
   use jacobi_precon, only: jacobi_precon_t
   use boomeramg_precon, only: boomeramg_precon_t
@@ -68,7 +69,8 @@ contains
   !> Set p up for matrix a (kept by pointer where the type needs it later).
   !> symmetric: a is symmetric (MUMPS factorizes LDL^T); keys: partition-
   !> independent ordering keys of the owned rows (aFSAI). Collective; records
-  !> the set-up seconds in p%setup_time.
+  !> the set-up seconds in p%setup_time and the rise of the peak resident
+!> memory in p%setup_rise.
   subroutine setup_precon(p, a, params, status, symmetric, keys)
     class(precon_t), intent(inout) :: p
     type(csr_matrix_t), intent(in), target :: a
@@ -77,7 +79,9 @@ contains
     logical, intent(in), optional :: symmetric
     integer(gp), intent(in), optional :: keys(:)
     real(rp) :: t0
+    integer(gp) :: m0
     t0 = wall_time()
+    m0 = peak_resident_bytes()
     select type (p)
     type is (boomeramg_precon_t)
       if (allocated(params%modes)) then
@@ -96,6 +100,7 @@ contains
     class default
     end select
     p%setup_time = wall_time() - t0
+    p%setup_rise = max(peak_resident_bytes() - m0, 0_gp)
   end subroutine setup_precon
 
   !> make_precon and setup_precon in one call.

@@ -168,7 +168,7 @@ contains
     call sim%linear_system(self%ls%is_direct(), self%sys, log, status)
     call timers%stop('preconditioner set-up')
     do i = 1, self%sys%n_parts
-      call timers%add('  '//trim(self%sys%part_name(i)), self%sys%part_time(i))
+      call timers%add('  '//trim(self%sys%part_name(i)), self%sys%part_time(i), self%sys%part_rise(i))
     end do
     stats%t_setup = stats%t_setup + self%sys%setup_time
     if (.not. status%ok()) then

@@ -226,13 +226,13 @@ contains
     class(biot_precon_t), intent(inout) :: self
     type(linear_system_t), intent(inout) :: sys
     if (self%fresh_fixed) then
-      call sys%add_part('K: '//trim(self%bp%s(iu)%p%name()), self%t_u)
-      call sys%add_part('A (flux): '//trim(self%bp%s(iq)%p%name()), self%t_q)
+      call sys%add_part('K: '//trim(self%bp%s(iu)%p%name()), self%t_u, self%bp%s(iu)%p%setup_rise)
+      call sys%add_part('A (flux): '//trim(self%bp%s(iq)%p%name()), self%t_q, self%bp%s(iq)%p%setup_rise)
       if (self%explicit) call sys%add_part('decoupling factors (aFSAI)', self%t_factors)
     end if
     if (self%fresh_dt) then
       call sys%add_part('Schur matrix ('//trim(self%schur)//')', self%t_smat)
-      call sys%add_part('Schur: '//trim(self%bp%s(ipr)%p%name()), self%t_sprec)
+      call sys%add_part('Schur: '//trim(self%bp%s(ipr)%p%name()), self%t_sprec, self%bp%s(ipr)%p%setup_rise)
     end if
     self%fresh_fixed = .false.
     self%fresh_dt = .false.

@@ -1,7 +1,8 @@
 !> Unit tests of global_csr: every rank builds the same small dense matrices
 !> (deterministic sparse patterns), takes its block of rows as a
 !> global_csr_t, and checks transpose, multiply, add, drop_small, fetch_rows
-!> to_csr (+ apply) and the sums in place (add_to_csr, add_csr_to_csr)
+!> to_csr (+ apply), the sums in place (add_to_csr, add_csr_to_csr) and
+!> the union of patterns (union_to_csr)
 !> against the dense reference. Any number of ranks.
 program test_global_csr
   use kinds, only: rp, ip, gp
@@ -9,7 +10,7 @@ program test_global_csr
   use index_map, only: index_map_t
   use csr_matrix, only: csr_matrix_t
   use global_csr, only: global_csr_t, row_store_t, gcsr_transpose, gcsr_multiply, gcsr_add, drop_small, fetch_rows, &
-    to_csr, from_csr, add_to_csr, add_csr_to_csr
+    to_csr, from_csr, add_to_csr, add_csr_to_csr, union_to_csr
   use assertions, only: test_suite_t
   implicit none
 
@@ -20,7 +21,7 @@ program test_global_csr
   type(global_csr_t) :: a, b, s, t, c, e
   type(row_store_t) :: store
   type(index_map_t), target :: rmap
-  type(csr_matrix_t) :: m, ms, me
+  type(csr_matrix_t) :: m, ms, me, mu
   type(global_csr_t) :: back
   real(rp), allocatable :: x(:), y(:)
   integer(gp), allocatable :: want(:)
@@ -111,6 +112,23 @@ program test_global_csr
   ! s does not fit the pattern of e, which lacks the dropped entries
   call add_to_csr(1.0_rp, s, me, ok)
   call suite%assert_true(comm%sum(merge(0, 1, ok)) > 0, 'add_to_csr: an entry outside the pattern is refused')
+  ! union_to_csr: e's values on the union of e's and s's patterns (s's,
+  ! with ghost columns e lacks), then s added there: e + s (me afresh: the
+  ! refused sum above left part of s in it)
+  call to_csr(e, rmap, me)
+  call union_to_csr(me, s, rmap, mu)
+  call suite%assert_true(mu%global_nnz() == s%global_nnz(), 'union_to_csr: the pattern is the union (s''s)')
+  call add_to_csr(1.0_rp, s, mu, ok)
+  call suite%assert_true(comm%sum(merge(0, 1, ok)) == 0, 'union_to_csr: s fits the union')
+  call from_csr(mu, back)
+  call suite%assert_true(matches(back, ds + ds0, o1), 'union_to_csr: e + s')
+  call mu%free()
+  ! with a third pattern: e's values, the union of e, e and s
+  call union_to_csr(me, e, rmap, mu, s)
+  call from_csr(mu, back)
+  call suite%assert_true(mu%global_nnz() == s%global_nnz() .and. matches(back, ds, o1), &
+                         'union_to_csr with h: the union of three patterns, e''s values')
+  call mu%free()
   call ms%free()
   call me%free()
   call suite%finish()
