@@ -217,7 +217,6 @@ contains
     type(index_map_t), pointer :: cmap
     integer(gp), allocatable :: ghosts(:), tmp(:), row(:)
     integer(ip), allocatable :: row_ptr(:), col(:)
-    real(rp), allocatable :: v(:)
     integer(gp) :: c0, c1
     integer(ip) :: i, k, nown, me, nr, at
     if (row_map%n_owned /= m%n_rows .or. g%n_rows /= m%n_rows) &
@@ -244,8 +243,7 @@ contains
       call merged_row(i, row, nr)
       row_ptr(i + 1) = row_ptr(i) + nr
     end do
-    allocate(col(row_ptr(m%n_rows + 1) - 1), v(row_ptr(m%n_rows + 1) - 1))
-    v = 0.0_rp
+    allocate(col(row_ptr(m%n_rows + 1) - 1))
     do i = 1, m%n_rows
       call merged_row(i, row, nr)
       associate (c => col(row_ptr(i):row_ptr(i + 1) - 1))
@@ -253,16 +251,17 @@ contains
           c(k) = local_col(row(k))
         end do
         call sort_ints(c)
-        do k = m%row_ptr(i), m%row_ptr(i + 1) - 1
-          at = search_local(c, local_col(m%col_map%global_id(m%col(k))))
-          v(row_ptr(i) + at - 1) = v(row_ptr(i) + at - 1) + m%val(k)
-        end do
       end associate
     end do
     call s%free()
     call s%init(row_map, cmap, row_ptr, col)
     deallocate(col)
-    s%val = v
+    do i = 1, m%n_rows
+      do k = m%row_ptr(i), m%row_ptr(i + 1) - 1
+        at = s%find(i, local_col(m%col_map%global_id(m%col(k))))
+        s%val(at) = s%val(at) + m%val(k)
+      end do
+    end do
     s%owned_col_map => cmap
   contains
     !> The distinct global columns of row i of m, g and h (ascending).
@@ -324,26 +323,6 @@ contains
     end do
     d = d(1:n)
   end function distinct
-
-  !> Position of x in the ascending c (0: absent).
-  pure integer(ip) function search_local(c, x)
-    integer(ip), intent(in) :: c(:), x
-    integer(ip) :: lo, hi, mid
-    search_local = 0
-    lo = 1
-    hi = size(c, kind=ip)
-    do while (lo <= hi)
-      mid = (lo + hi) / 2
-      if (c(mid) == x) then
-        search_local = mid
-        return
-      else if (c(mid) < x) then
-        lo = mid + 1
-      else
-        hi = mid - 1
-      end if
-    end do
-  end function search_local
 
   !> m%val += alpha g%val at g's entries, where g has m's owned rows and
   !> global columns: a new sum into a matrix whose pattern holds it (S* =

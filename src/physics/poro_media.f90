@@ -44,7 +44,7 @@ module poro_media
     !> |c| (src_jp - src_index p_c) [m^3/s]
     real(rp), allocatable :: src_index(:), src_jp(:)
     !> the pressure-controlled sources: names, index, pressure, and their
-    !> owned cells (pcells(first(k):first(k+1)-1))
+    !> owned cells (psrc_cells(psrc_first(k):psrc_first(k+1)-1))
     character(len=name_len), allocatable :: psrc_name(:)
     real(rp), allocatable :: psrc_index(:), psrc_p(:)
     integer(ip), allocatable :: psrc_first(:), psrc_cells(:)
