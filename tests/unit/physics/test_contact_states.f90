@@ -9,7 +9,10 @@
 !>    measured from jump_step, open with g_N > 0 or within the tolerance
 !>    below 0); the return value is the global number of changes;
 !>  - fresh is true exactly for the elements that went stick -> slip in the
-!>    last update, and false again after an update without changes;
+!>    last update for the first time in the step, and false again after an
+!>    update without changes;
+!>  - an element cycling stick <-> slip beyond the 1e-3 bound is held on its
+!>    fifth change if within its own stabilization allowance, not without one;
 !>  - the cap of 4 changes per element and step: an element driven stick ->
 !>    slip -> stick -> slip -> stick is held in stick on the fifth change and
 !>    counted in held of its fault; one driven open -> stick -> open -> stick
@@ -133,6 +136,44 @@ program test_contact_states
   changed = ct%update_states(dm, tol)
   call check('again', changed, 0)
 
+  ! ---- held between stick and slip within the element's stabilization allowance ------------------
+  ! each element cycles stick <-> slip 5 times, 5e-3 t_ref beyond its limit
+  ! (5x the 1e-3 bound: stuck with |t_T| = tau + 5e-3 t_ref, slipping with
+  ! c dg = -5e-3 t_ref along t_T = tau); role 1 (even original ids) with an
+  ! allowance c |dg| = 1e-2 t_ref at its stuck iterates, role 0 with none
+  ! (dg = 0): the fifth change holds role 1 only
+  do e = 1, dm%n_ifaces
+    role(e) = int(mod(dm%iface_orig(e) - 1, 2_gp))
+  end do
+  call ct%begin_step(cs%ctx)
+  ct%state = state_stick
+  ct%slipped = .false.
+  do k = 1, max_flips + 1
+    do e = 1, dm%n_ifaces
+      if (ct%state(e) == state_stick) then
+        ct%trac(:, e) = [-t0, (tau_of(e) + 5.0e-3_rp * t0) * dir]
+        ct%jump(:, e) = [0.0_rp, ct%jump_step(2:3, e) + merge(1.0e-2_rp, 0.0_rp, role(e) == 1) * t0 / c_of(e) * dir]
+      else
+        ct%trac(:, e) = [-t0, tau_of(e) * dir]
+        ct%jump(:, e) = [0.0_rp, ct%jump_step(2:3, e) - 5.0e-3_rp * t0 / c_of(e) * dir]
+      end if
+    end do
+    want = merge(state_slip, state_stick, ct%state == state_stick)
+    want_held = 0
+    if (k == max_flips + 1) then
+      where (role == 1) want = ct%state
+      do e = 1, nown
+        if (role(e) == 1) want_held(ct%fault(e)) = want_held(ct%fault(e)) + 1
+      end do
+      want_held = [(comm%sum(want_held(f)), f = 1, size(faults))]
+    end if
+    want_fresh = want == state_slip .and. ct%state == state_stick .and. k == 1
+    write(label, '(a,i0)') 'allow ', k
+    changed = ct%update_states(dm, tol)
+    call check(trim(label), changed, int(merge(comm%sum(int(count(role(1:nown) == 0), gp)), &
+                                               int(dm%iface_map%n_global, gp), k == max_flips + 1)))
+  end do
+
   ! ---- the cap: original ids 2, 5, 8, ... cycle stick <-> slip, 3, 6, 9, ... open <-> stick, 1, 4,
   ! ---- 7, ... stay open and wide (g_ref); the fifth update is held, begin_step frees the sixth
   call ct%begin_step(cs%ctx)
@@ -140,6 +181,7 @@ program test_contact_states
     role(e) = int(mod(dm%iface_orig(e) - 1, 3_gp))
     ct%state(e) = role_start(role(e))
   end do
+  ct%slipped = .false.
   want = ct%state
   do k = 1, max_flips + 2
     if (k == max_flips + 2) call ct%begin_step(cs%ctx)
@@ -155,7 +197,8 @@ program test_contact_states
       end select
       call set_element(e, how(e))
     end do
-    want_fresh = how == to_slip
+    ! fresh (the direction held) on an element's first slip of the step only
+    want_fresh = how == to_slip .and. (k == 1 .or. k == max_flips + 2)
     if (k == max_flips + 1) then
       ! held: the status stays; counted per fault (global)
       want_fresh = .false.
@@ -233,6 +276,16 @@ contains
       end do
     end select
   end subroutine setup
+
+  !> The friction limit of local element e under t0, and its c = A / s.
+  real(rp) function tau_of(e)
+    integer(ip), intent(in) :: e
+    tau_of = faults(ct%fault(e))%cohesion + tan(faults(ct%fault(e))%friction_angle * pi / 180.0_rp) * t0
+  end function tau_of
+  real(rp) function c_of(e)
+    integer(ip), intent(in) :: e
+    c_of = ct%area(e) / ct%s(e)
+  end function c_of
 
   !> Traction and jump of local element e for kind k (see the header), from
   !> the deck's friction and cohesion and the element's c = A / s; closed
