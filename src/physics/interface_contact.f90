@@ -73,9 +73,15 @@ module interface_contact
   implicit none
   private
 
-  public :: interface_contact_of, interface_contact_t, state_stick, state_slip, state_open, state_names, max_flips, nju, check_split
+  public :: interface_contact_of, interface_contact_t, state_stick, state_slip, state_open, state_names, max_flips, nju, &
+            check_split, violation_names, viol_beyond
 
   integer, parameter :: state_stick = 1, state_slip = 2, state_open = 3
+  !> the checks an update may find broken (update_states), as the log names them
+  integer, parameter :: viol_tension = 1, viol_beyond = 2, viol_under = 3, viol_back = 4, viol_overlap = 5
+  character(len=40), parameter :: violation_names(5) = [character(len=40) :: &
+    'tension on a closed element', 'stuck beyond its friction limit', 'slipping under its friction limit', &
+    'slip turned against its friction', 'overlap of an open element']
   character(len=5), parameter :: state_names(3) = ['stick', 'slip ', 'open ']
   !> status changes of one element in a step before it is held (update_states)
   integer, parameter :: max_flips = 4
@@ -109,6 +115,11 @@ module interface_contact
     real(rp), allocatable :: allow(:)              !< c |dg| at the element's last stuck iterate of the step [Pa]
     integer(gp), allocatable :: held(:)            !< per fault (of faults(:)): elements held in their status at the last update
     integer(gp), allocatable :: held_open(:)       !< the same, held between open and closed
+    !> the largest held violation of the last update (held_excess): which
+    !> check it broke (one of violation_names, 0: none held) and the
+    !> element's stabilization allowance then, relative as held_excess
+    integer :: held_kind = 0
+    real(rp) :: held_allow = 0.0_rp
     integer(gp) :: changes = 0                     !< status changes of the last update
     integer(gp) :: moves(3, 3) = 0                 !< (from, to) status changes of the last update
     real(rp), allocatable :: trac(:,:), trac_step(:,:)     !< (3,n) local-frame traction [Pa]
@@ -1058,10 +1069,10 @@ contains
     real(rp), intent(in) :: tol                    !< relative tolerance of the checks
     integer :: f
     type(parallel_comm_t) :: comm
-    real(rp) :: t_ref, g_ref, tau, dg(2), excess, t_open
+    real(rp) :: t_ref, g_ref, tau, dg(2), excess, t_open, under, back, big
     real(rp), allocatable :: st(:)
     integer(ip) :: e, nown
-    integer :: new
+    integer :: new, kind
     comm = mesh%comm
     nown = mesh%iface_map%n_owned
     t_ref = 0.0_rp
@@ -1092,11 +1103,14 @@ contains
     self%held = 0
     self%held_open = 0
     self%held_excess = 0.0_rp
+    self%held_kind = 0
+    self%held_allow = 0.0_rp
     do e = 1, nown
       new = self%state(e)
       tau = max(self%coh(e) - self%fric(e) * self%trac(1, e), 0.0_rp)
       dg = self%jump(2:3, e) - self%jump_step(2:3, e)
       excess = 0.0_rp
+      kind = 0
       if (self%state(e) == state_stick) self%allow(e) = self%area(e) / self%s(e) * norm2(dg)
       select case (self%state(e))
       case (state_stick)
@@ -1104,14 +1118,17 @@ contains
           ! in tension: it opens, or waits in its status for a later update
           if (self%trac(1, e) >= t_open) new = state_open
           excess = self%trac(1, e) / max(t_ref, tiny(1.0_rp))
+          kind = viol_tension
         else if (norm2(self%trac(2:3, e)) > tau + tol * t_ref) then
           new = state_slip
           excess = (norm2(self%trac(2:3, e)) - tau) / max(t_ref, tiny(1.0_rp))
+          kind = viol_beyond
         end if
       case (state_slip)
         if (self%trac(1, e) > tol * t_ref) then
           if (self%trac(1, e) >= t_open) new = state_open
           excess = self%trac(1, e) / max(t_ref, tiny(1.0_rp))
+          kind = viol_tension
         else if (norm2(self%trac(2:3, e) + self%area(e) / self%s(e) * dg) < tau - tol * t_ref .or. &
                  dot_product(self%trac(2:3, e), self%area(e) / self%s(e) * dg) < &
                  -tol * t_ref * norm2(self%trac(2:3, e))) then
@@ -1124,9 +1141,11 @@ contains
           ! increment c |dg| far above 2 tau, with no status change, for 30
           ! iterations.)
           new = state_stick
-          excess = max(tau - norm2(self%trac(2:3, e) + self%area(e) / self%s(e) * dg), &
-                       -dot_product(self%trac(2:3, e), self%area(e) / self%s(e) * dg) / &
-                       max(norm2(self%trac(2:3, e)), tiny(1.0_rp))) / max(t_ref, tiny(1.0_rp))
+          under = tau - norm2(self%trac(2:3, e) + self%area(e) / self%s(e) * dg)
+          back = -dot_product(self%trac(2:3, e), self%area(e) / self%s(e) * dg) / &
+                 max(norm2(self%trac(2:3, e)), tiny(1.0_rp))
+          excess = max(under, back) / max(t_ref, tiny(1.0_rp))
+          kind = merge(viol_under, viol_back, under >= back)
         end if
       case (state_open)
         ! a closing element that slipped in this step closes slipping: its
@@ -1138,6 +1157,7 @@ contains
         ! and stick <-> slip changed 100-300 statuses an update for 14.)
         if (self%jump(1, e) < -tol * g_ref) new = merge(state_slip, state_stick, self%slipped(e))
         excess = -self%jump(1, e) / g_ref
+        kind = viol_overlap
       end select
       ! an element that changed max_flips times in this step sits on the
       ! friction limit (stick <-> slip) or at the opening (open <-> closed:
@@ -1164,7 +1184,11 @@ contains
           else
             self%held(self%fault(e)) = self%held(self%fault(e)) + 1
           end if
-          self%held_excess = max(self%held_excess, excess)
+          if (excess > self%held_excess .or. self%held_kind == 0) then
+            self%held_excess = excess
+            self%held_kind = kind
+            self%held_allow = self%allow(e) / max(t_ref, tiny(1.0_rp))
+          end if
           new = self%state(e)
         else
           self%flips(e) = self%flips(e) + 1
@@ -1188,7 +1212,16 @@ contains
       call comm%sum_all(flat)
       self%moves = reshape(flat, [3, 3])
     end block
-    self%held_excess = comm%max(self%held_excess)
+    ! the largest held violation over the ranks, with its kind and allowance
+    ! (from the rank that holds it: the largest kind among equal maxima)
+    big = comm%max(self%held_excess)
+    if (self%held_kind == 0 .or. self%held_excess < big) then
+      self%held_kind = 0
+      self%held_allow = 0.0_rp
+    end if
+    self%held_excess = big
+    self%held_kind = comm%max(self%held_kind)
+    self%held_allow = comm%max(self%held_allow)
     do f = 1, size(self%held)
       self%held(f) = comm%sum(self%held(f))
       self%held_open(f) = comm%sum(self%held_open(f))
@@ -1401,8 +1434,16 @@ contains
         'were held in it (open <-> closed: they sit at the opening, t_N and g_N zero within &contact '// &
         'status_tol)')
     end do
-    if (any(self%held > 0) .or. any(self%held_open > 0)) call log%detail('  held elements: largest '// &
-      'violation of the held status '//trim(rtoa(self%held_excess))//' (relative)')
+    if ((any(self%held > 0) .or. any(self%held_open > 0)) .and. self%held_kind > 0) then
+      if (self%held_excess <= hold_tol) then
+        call log%detail('  held elements: largest violation of the held status '//trim(rtoa(self%held_excess))// &
+          ' (relative), '//trim(violation_names(self%held_kind))//', within the hold bound '//trim(rtoa(hold_tol)))
+      else
+        call log%detail('  held elements: largest violation of the held status '//trim(rtoa(self%held_excess))// &
+          ' (relative), '//trim(violation_names(self%held_kind))//', within its stabilization allowance '// &
+          trim(rtoa(self%held_allow)))
+      end if
+    end if
   end subroutine status_notes
   !> One line per fault whose stick/slip/open counts changed since the last
   !> report (all faults at the first), e.g.

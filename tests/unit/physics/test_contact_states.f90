@@ -35,7 +35,8 @@ program test_contact_states
   use simulation, only: simulation_t
   use simulation_factory, only: make_simulation
   use coupled_simulation, only: coupled_simulation_t
-  use interface_contact, only: interface_contact_t, state_stick, state_slip, state_open, state_names, max_flips
+  use interface_contact, only: interface_contact_t, state_stick, state_slip, state_open, state_names, max_flips, &
+                               violation_names, viol_beyond
   use strings, only: itoa
   use assertions, only: test_suite_t
   use deck_files, only: write_lines
@@ -173,6 +174,12 @@ program test_contact_states
     call check(trim(label), changed, int(merge(comm%sum(int(count(role(1:nown) == 0), gp)), &
                                                int(dm%iface_map%n_global, gp), k == max_flips + 1)))
   end do
+  ! the log's account of the largest held violation: stuck 5e-3 t_ref beyond
+  ! the limit, held within an allowance of 1e-2 t_ref (not within the bound)
+  call suite%assert_true(ct%held_kind == viol_beyond, 'allow: the held violation is named '// &
+                         trim(violation_names(viol_beyond))//' (got kind '//itoa(ct%held_kind)//')')
+  call suite%assert_close(ct%held_excess, 5.0e-3_rp, 1.0e-9_rp, 'allow: largest held violation')
+  call suite%assert_close(ct%held_allow, 1.0e-2_rp, 1.0e-9_rp, 'allow: its allowance')
 
   ! ---- the cap: original ids 2, 5, 8, ... cycle stick <-> slip, 3, 6, 9, ... open <-> stick, 1, 4,
   ! ---- 7, ... stay open and wide (g_ref); the fifth update is held, begin_step frees the sixth
