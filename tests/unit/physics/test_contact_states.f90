@@ -12,7 +12,10 @@
 !>    last update for the first time in the step, and false again after an
 !>    update without changes;
 !>  - an element cycling stick <-> slip beyond the 1e-3 bound is held on its
-!>    fifth change if within its own stabilization allowance, not without one;
+!>    fifth change if within its own stabilization allowance, not without one,
+!>    nor when that allowance exceeds its friction limit and the violation
+!>    does too (the allowance counts at most tau); the largest held
+!>    violation is reported with its kind and allowance;
 !>  - the cap of 4 changes per element and step: an element driven stick ->
 !>    slip -> stick -> slip -> stick is held in stick on the fifth change and
 !>    counted in held of its fault; one driven open -> stick -> open -> stick
@@ -87,7 +90,8 @@ program test_contact_states
   integer(gp) :: changed
   integer(ip) :: e, nown
   integer :: k, f
-  character(len=8) :: label
+  character(len=32) :: label
+  real(rp), allocatable :: fric_keep(:), coh_keep(:)
 
   call comm%init_world()
   call suite%init('contact_states', comm)
@@ -180,6 +184,37 @@ program test_contact_states
                          trim(violation_names(viol_beyond))//' (got kind '//itoa(ct%held_kind)//')')
   call suite%assert_close(ct%held_excess, 5.0e-3_rp, 1.0e-9_rp, 'allow: largest held violation')
   call suite%assert_close(ct%held_allow, 1.0e-2_rp, 1.0e-9_rp, 'allow: its allowance')
+
+  ! ---- the allowance is at most the element's friction limit ---------------------------------------
+  ! the same cycle with tau = 2e-3 t_ref (no friction angle, cohesion only):
+  ! role 1's c |dg| = 1e-2 t_ref counts as 2e-3, below the 5e-3 violation,
+  ! so no element is held and all change the fifth time too
+  fric_keep = ct%fric
+  coh_keep = ct%coh
+  ct%fric = 0.0_rp
+  ct%coh = 2.0e-3_rp * t0
+  call ct%begin_step(cs%ctx)
+  ct%state = state_stick
+  ct%slipped = .false.
+  want_held = 0
+  do k = 1, max_flips + 1
+    do e = 1, dm%n_ifaces
+      if (ct%state(e) == state_stick) then
+        ct%trac(:, e) = [-t0, (ct%coh(e) + 5.0e-3_rp * t0) * dir]
+        ct%jump(:, e) = [0.0_rp, ct%jump_step(2:3, e) + merge(1.0e-2_rp, 0.0_rp, role(e) == 1) * t0 / c_of(e) * dir]
+      else
+        ct%trac(:, e) = [-t0, ct%coh(e) * dir]
+        ct%jump(:, e) = [0.0_rp, ct%jump_step(2:3, e) - 5.0e-3_rp * t0 / c_of(e) * dir]
+      end if
+    end do
+    want = merge(state_slip, state_stick, ct%state == state_stick)
+    want_fresh = want == state_slip .and. ct%state == state_stick .and. k == 1
+    write(label, '(a,i0)') 'allow at most tau ', k
+    changed = ct%update_states(dm, tol)
+    call check(trim(label), changed, int(dm%iface_map%n_global))
+  end do
+  ct%fric = fric_keep
+  ct%coh = coh_keep
 
   ! ---- the cap: original ids 2, 5, 8, ... cycle stick <-> slip, 3, 6, 9, ... open <-> stick, 1, 4,
   ! ---- 7, ... stay open and wide (g_ref); the fifth update is held, begin_step frees the sixth
