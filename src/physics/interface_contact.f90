@@ -1069,7 +1069,7 @@ contains
     real(rp), intent(in) :: tol                    !< relative tolerance of the checks
     integer :: f
     type(parallel_comm_t) :: comm
-    real(rp) :: t_ref, g_ref, tau, dg(2), excess, t_open, under, back, big
+    real(rp) :: t_ref, g_ref, excess, t_open, big
     real(rp), allocatable :: st(:)
     integer(ip) :: e, nown
     integer :: new, kind
@@ -1106,63 +1106,7 @@ contains
     self%held_kind = 0
     self%held_allow = 0.0_rp
     do e = 1, nown
-      new = self%state(e)
-      tau = max(self%coh(e) - self%fric(e) * self%trac(1, e), 0.0_rp)
-      dg = self%jump(2:3, e) - self%jump_step(2:3, e)
-      excess = 0.0_rp
-      kind = 0
-      ! (at most its friction limit: seed's nine fractures at 1 m cells, step
-      ! 7, an element whose jump moved by an allowance of 0.55 of the largest
-      ! traction was held stuck 0.159 of it beyond its limit; capped, 15
-      ! Newton iterations as before, the largest held violation 3.4e-3)
-      if (self%state(e) == state_stick) self%allow(e) = min(self%area(e) / self%s(e) * norm2(dg), tau)
-      select case (self%state(e))
-      case (state_stick)
-        if (self%trac(1, e) > tol * t_ref) then
-          ! in tension: it opens, or waits in its status for a later update
-          if (self%trac(1, e) >= t_open) new = state_open
-          excess = self%trac(1, e) / max(t_ref, tiny(1.0_rp))
-          kind = viol_tension
-        else if (norm2(self%trac(2:3, e)) > tau + tol * t_ref) then
-          new = state_slip
-          excess = (norm2(self%trac(2:3, e)) - tau) / max(t_ref, tiny(1.0_rp))
-          kind = viol_beyond
-        end if
-      case (state_slip)
-        if (self%trac(1, e) > tol * t_ref) then
-          if (self%trac(1, e) >= t_open) new = state_open
-          excess = self%trac(1, e) / max(t_ref, tiny(1.0_rp))
-          kind = viol_tension
-        else if (norm2(self%trac(2:3, e) + self%area(e) / self%s(e) * dg) < tau - tol * t_ref .or. &
-                 dot_product(self%trac(2:3, e), self%area(e) / self%s(e) * dg) < &
-                 -tol * t_ref * norm2(self%trac(2:3, e))) then
-          ! |z| below the limit, or the slip increment against the friction
-          ! traction (which the slip rows set along the last direction) by
-          ! more than the tolerance, as a traction c dg: the slip turned
-          ! back, and an element that reverses passes through stick. (Without
-          ! it, the elements of a fault whose slip front outran the pressure
-          ! swapped t_T = +tau and -tau at every Newton iteration, each
-          ! increment c |dg| far above 2 tau, with no status change, for 30
-          ! iterations.)
-          new = state_stick
-          under = tau - norm2(self%trac(2:3, e) + self%area(e) / self%s(e) * dg)
-          back = -dot_product(self%trac(2:3, e), self%area(e) / self%s(e) * dg) / &
-                 max(norm2(self%trac(2:3, e)), tiny(1.0_rp))
-          excess = max(under, back) / max(t_ref, tiny(1.0_rp))
-          kind = merge(viol_under, viol_back, under >= back)
-        end if
-      case (state_open)
-        ! a closing element that slipped in this step closes slipping: its
-        ! tangential jump moved while it was open, and stick would pull it
-        ! back to the step's start (a tangential traction far beyond the
-        ! friction limit, stick -> slip at the next update). The slip rows
-        ! send it to stick once its friction holds. (Seed's nine fractures at
-        ! 1 m cells, opening step: 137 of 349 elements closed into stick,
-        ! and stick <-> slip changed 100-300 statuses an update for 14.)
-        if (self%jump(1, e) < -tol * g_ref) new = merge(state_slip, state_stick, self%slipped(e))
-        excess = -self%jump(1, e) / g_ref
-        kind = viol_overlap
-      end select
+      call judge_element(self, e, tol, t_ref, g_ref, t_open, new, excess, kind)
       ! an element that changed max_flips times in this step sits on the
       ! friction limit (stick <-> slip) or at the opening (open <-> closed:
       ! t_N and g_N both zero) within the tolerances: it keeps its status.
@@ -1235,6 +1179,79 @@ contains
     call mesh%iface_map%import(st)
     self%state = nint(st)
   end function update_states
+
+  !> The status element e's iterate asks for (new: its own when no check
+  !> fails), the violation that asks for it relative to t_ref (g_ref for an
+  !> overlap) and which check it broke (viol_*, 0: none); records a stuck
+  !> element's stabilization allowance. Local.
+  subroutine judge_element(self, e, tol, t_ref, g_ref, t_open, new, excess, kind)
+    class(interface_contact_t), intent(inout) :: self
+    integer(ip), intent(in) :: e
+    real(rp), intent(in) :: tol, t_ref, g_ref   !< the checks' tolerance, the largest traction and jump
+    real(rp), intent(in) :: t_open              !< the tension at which a closed element opens
+    integer, intent(out) :: new, kind
+    real(rp), intent(out) :: excess
+    real(rp) :: tau, dg(2), cdg(2), under, back
+    new = self%state(e)
+    tau = max(self%coh(e) - self%fric(e) * self%trac(1, e), 0.0_rp)
+    dg = self%jump(2:3, e) - self%jump_step(2:3, e)
+    cdg = self%area(e) / self%s(e) * dg          ! the step's slip as a traction, c = A / s
+    excess = 0.0_rp
+    kind = 0
+    ! a stuck element's stabilization allowance (update_states' hold rule), at
+    ! most its friction limit. (Seed's nine fractures at 1 m cells, step 7:
+    ! an element whose jump moved by 0.55 of the largest traction was held
+    ! stuck 0.159 of it beyond its limit; capped, 15 Newton iterations as
+    ! before, the largest held violation 3.4e-3.)
+    if (self%state(e) == state_stick) self%allow(e) = min(self%area(e) / self%s(e) * norm2(dg), tau)
+    select case (self%state(e))
+    case (state_stick)
+      if (self%trac(1, e) > tol * t_ref) then
+        ! in tension: it opens, or waits in its status for a later update
+        if (self%trac(1, e) >= t_open) new = state_open
+        excess = self%trac(1, e) / max(t_ref, tiny(1.0_rp))
+        kind = viol_tension
+      else if (norm2(self%trac(2:3, e)) > tau + tol * t_ref) then
+        new = state_slip
+        excess = (norm2(self%trac(2:3, e)) - tau) / max(t_ref, tiny(1.0_rp))
+        kind = viol_beyond
+      end if
+    case (state_slip)
+      if (self%trac(1, e) > tol * t_ref) then
+        if (self%trac(1, e) >= t_open) new = state_open
+        excess = self%trac(1, e) / max(t_ref, tiny(1.0_rp))
+        kind = viol_tension
+      else if (norm2(self%trac(2:3, e) + cdg) < tau - tol * t_ref .or. &
+               dot_product(self%trac(2:3, e), cdg) < &
+               -tol * t_ref * norm2(self%trac(2:3, e))) then
+        ! |z| below the limit, or the slip increment against the friction
+        ! traction (which the slip rows set along the last direction) by
+        ! more than the tolerance, as a traction c dg: the slip turned
+        ! back, and an element that reverses passes through stick. (Without
+        ! it, the elements of a fault whose slip front outran the pressure
+        ! swapped t_T = +tau and -tau at every Newton iteration, each
+        ! increment c |dg| far above 2 tau, with no status change, for 30
+        ! iterations.)
+        new = state_stick
+        under = tau - norm2(self%trac(2:3, e) + cdg)
+        back = -dot_product(self%trac(2:3, e), cdg) / &
+               max(norm2(self%trac(2:3, e)), tiny(1.0_rp))
+        excess = max(under, back) / max(t_ref, tiny(1.0_rp))
+        kind = merge(viol_under, viol_back, under >= back)
+      end if
+    case (state_open)
+      ! a closing element that slipped in this step closes slipping: its
+      ! tangential jump moved while it was open, and stick would pull it
+      ! back to the step's start (a tangential traction far beyond the
+      ! friction limit, stick -> slip at the next update). The slip rows
+      ! send it to stick once its friction holds. (Seed's nine fractures at
+      ! 1 m cells, opening step: 137 of 349 elements closed into stick,
+      ! and stick <-> slip changed 100-300 statuses an update for 14.)
+      if (self%jump(1, e) < -tol * g_ref) new = merge(state_slip, state_stick, self%slipped(e))
+      excess = -self%jump(1, e) / g_ref
+      kind = viol_overlap
+    end select
+  end subroutine judge_element
 
   !> Global number of owned elements in each status. Collective.
   function count_states(self, mesh) result(n)
