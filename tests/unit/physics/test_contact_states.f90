@@ -155,13 +155,7 @@ program test_contact_states
   ct%slipped = .false.
   do k = 1, max_flips + 1
     do e = 1, dm%n_ifaces
-      if (ct%state(e) == state_stick) then
-        ct%trac(:, e) = [-t0, (tau_of(e) + 5.0e-3_rp * t0) * dir]
-        ct%jump(:, e) = [0.0_rp, ct%jump_step(2:3, e) + merge(1.0e-2_rp, 0.0_rp, role(e) == 1) * t0 / c_of(e) * dir]
-      else
-        ct%trac(:, e) = [-t0, tau_of(e) * dir]
-        ct%jump(:, e) = [0.0_rp, ct%jump_step(2:3, e) - 5.0e-3_rp * t0 / c_of(e) * dir]
-      end if
+      call set_cycle(e, tau_of(e))
     end do
     want = merge(state_slip, state_stick, ct%state == state_stick)
     want_held = 0
@@ -199,13 +193,7 @@ program test_contact_states
   want_held = 0
   do k = 1, max_flips + 1
     do e = 1, dm%n_ifaces
-      if (ct%state(e) == state_stick) then
-        ct%trac(:, e) = [-t0, (ct%coh(e) + 5.0e-3_rp * t0) * dir]
-        ct%jump(:, e) = [0.0_rp, ct%jump_step(2:3, e) + merge(1.0e-2_rp, 0.0_rp, role(e) == 1) * t0 / c_of(e) * dir]
-      else
-        ct%trac(:, e) = [-t0, ct%coh(e) * dir]
-        ct%jump(:, e) = [0.0_rp, ct%jump_step(2:3, e) - 5.0e-3_rp * t0 / c_of(e) * dir]
-      end if
+      call set_cycle(e, ct%coh(e))
     end do
     want = merge(state_slip, state_stick, ct%state == state_stick)
     want_fresh = want == state_slip .and. ct%state == state_stick .and. k == 1
@@ -318,6 +306,21 @@ contains
       end do
     end select
   end subroutine setup
+
+  !> One step of the stick <-> slip cycle of local element e under friction
+  !> limit tau: stuck 5e-3 t0 beyond it (role 1 with an allowance c |dg| of
+  !> 1e-2 t0, role 0 with none), slipping back by c dg = -5e-3 t0.
+  subroutine set_cycle(e, tau)
+    integer(ip), intent(in) :: e
+    real(rp), intent(in) :: tau
+    if (ct%state(e) == state_stick) then
+      ct%trac(:, e) = [-t0, (tau + 5.0e-3_rp * t0) * dir]
+      ct%jump(:, e) = [0.0_rp, ct%jump_step(2:3, e) + merge(1.0e-2_rp, 0.0_rp, role(e) == 1) * t0 / c_of(e) * dir]
+    else
+      ct%trac(:, e) = [-t0, tau * dir]
+      ct%jump(:, e) = [0.0_rp, ct%jump_step(2:3, e) - 5.0e-3_rp * t0 / c_of(e) * dir]
+    end if
+  end subroutine set_cycle
 
   !> The friction limit of local element e under t0, and its c = A / s.
   real(rp) function tau_of(e)
