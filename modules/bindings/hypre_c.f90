@@ -48,6 +48,7 @@ module hypre_c
   public :: HYPRE_BoomerAMGSetStrongThreshold, HYPRE_BoomerAMGSetMaxRowSum
   public :: HYPRE_BoomerAMGSetMaxLevels, HYPRE_BoomerAMGSetMaxCoarseSize
   public :: HYPRE_BoomerAMGSetRelaxType, HYPRE_BoomerAMGSetCycleRelaxType
+  public :: HYPRE_BoomerAMGSetRelaxOrder
   public :: HYPRE_BoomerAMGSetNumSweeps, HYPRE_BoomerAMGSetRelaxWt, HYPRE_BoomerAMGSetCycleType
   public :: HYPRE_BoomerAMGSetTruncFactor, HYPRE_BoomerAMGSetPMaxElmts
   public :: HYPRE_FSAICreate, HYPRE_FSAIDestroy, HYPRE_FSAISetup, HYPRE_FSAISolve
@@ -534,6 +535,15 @@ module hypre_c
       integer(hypre_int), value :: cycle_type
       integer(hypre_int) :: ierr
     end function HYPRE_BoomerAMGSetCycleType
+
+    !> HYPRE_Int HYPRE_BoomerAMGSetRelaxOrder(HYPRE_Solver solver, HYPRE_Int relax_order)
+    function HYPRE_BoomerAMGSetRelaxOrder(solver, relax_order) &
+        bind(C, name='HYPRE_BoomerAMGSetRelaxOrder') result(ierr)
+      import :: c_ptr, hypre_int
+      type(c_ptr), value :: solver
+      integer(hypre_int), value :: relax_order
+      integer(hypre_int) :: ierr
+    end function HYPRE_BoomerAMGSetRelaxOrder
 
     !> HYPRE_Int HYPRE_BoomerAMGSetNumSweeps(HYPRE_Solver solver, HYPRE_Int num_sweeps)
     function HYPRE_BoomerAMGSetNumSweeps(solver, num_sweeps) &

@@ -19,7 +19,7 @@ module boomeramg_precon
   use precon, only: precon_t
   use amg_params, only: amg_params_t, amg_line_len
   use hypre_ij, only: hypre_ij_t, hypre_check
-  use hypre_c, only: HYPRE_MEMORY_HOST, HYPRE_ClearAllErrors, HYPRE_GetError, hypre_CAlloc, &
+  use hypre_c, only: HYPRE_MEMORY_HOST, HYPRE_BoomerAMGSetRelaxOrder, HYPRE_ClearAllErrors, HYPRE_GetError, hypre_CAlloc, &
     HYPRE_BoomerAMGCreate, HYPRE_BoomerAMGDestroy, HYPRE_BoomerAMGSetup, HYPRE_BoomerAMGSolve, &
     HYPRE_BoomerAMGGetGridHierarchy, HYPRE_BoomerAMGSetTol, HYPRE_BoomerAMGSetMaxIter, &
     HYPRE_BoomerAMGSetPrintLevel, HYPRE_BoomerAMGSetNumFunctions, HYPRE_BoomerAMGSetDofFunc, &
@@ -262,6 +262,7 @@ contains
     ierr = HYPRE_BoomerAMGSetCycleRelaxType(solver, int(down, hypre_int), 1_hypre_int)
     ierr = HYPRE_BoomerAMGSetCycleRelaxType(solver, int(up, hypre_int), 2_hypre_int)
     ierr = HYPRE_BoomerAMGSetCycleRelaxType(solver, 9_hypre_int, 3_hypre_int)
+    ierr = HYPRE_BoomerAMGSetRelaxOrder(solver, int(p%relax_order_id(), hypre_int))
     ierr = HYPRE_BoomerAMGSetNumSweeps(solver, int(p%num_sweeps, hypre_int))
     ierr = HYPRE_BoomerAMGSetRelaxWt(solver, p%relax_wt)
     ierr = HYPRE_BoomerAMGSetCycleType(solver, int(p%cycle_id(), hypre_int))

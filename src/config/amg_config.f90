@@ -4,8 +4,8 @@
 !>   num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor,
 !>   agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths,
 !>   strong_threshold, max_row_sum, max_levels, max_coarse_size, relax_type,
-!>   num_sweeps, relax_wt, print_level, cycle_type, interp_vec_variant,
-!>   interp_vec_qmax, slab_threshold
+!>   relax_order, num_sweeps, relax_wt, print_level, cycle_type,
+!>   interp_vec_variant, interp_vec_qmax, slab_threshold
 !> slab_threshold (a real in [0, 1), default 0.8; 0: as strong_threshold): on
 !> a slab with flat cells (a plane-strain mesh one or a few cells thick,
 !> found from the mesh: src/discretization/slab_geometry.f90), the strength
@@ -35,7 +35,7 @@ contains
     type(error_status_t), intent(inout) :: status
     integer :: num_functions, nodal, p_max_elmts, agg_num_levels, agg_p_max_elmts, num_paths, &
                max_levels, max_coarse_size, num_sweeps, print_level, interp_vec_variant, interp_vec_qmax, ios
-    character(len=name_len) :: coarsen_type, interp_type, agg_interp_type, relax_type, cycle_type
+    character(len=name_len) :: coarsen_type, interp_type, agg_interp_type, relax_type, cycle_type, relax_order
     real(rp) :: trunc_factor, strong_threshold, max_row_sum, relax_wt, slab_threshold
     type(error_status_t) :: vstat
     character(len=msg_len) :: msg
@@ -43,7 +43,7 @@ contains
     namelist /amg/ num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor, &
                    agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths, strong_threshold, &
                    max_row_sum, max_levels, max_coarse_size, relax_type, num_sweeps, relax_wt, print_level, &
-                   interp_vec_variant, interp_vec_qmax, cycle_type, slab_threshold
+                   interp_vec_variant, interp_vec_qmax, cycle_type, slab_threshold, relax_order
 
     num_functions = params%num_functions; nodal = params%nodal; coarsen_type = params%coarsen_type
     interp_type = params%interp_type; p_max_elmts = params%p_max_elmts; trunc_factor = params%trunc_factor
@@ -53,7 +53,7 @@ contains
     max_levels = params%max_levels; max_coarse_size = params%max_coarse_size; relax_type = params%relax_type
     num_sweeps = params%num_sweeps; relax_wt = params%relax_wt; print_level = params%print_level
     interp_vec_variant = params%interp_vec_variant; interp_vec_qmax = params%interp_vec_qmax
-    cycle_type = params%cycle_type; slab_threshold = params%slab_threshold
+    cycle_type = params%cycle_type; slab_threshold = params%slab_threshold; relax_order = params%relax_order
     if (d%count('amg') > 0) then
       call d%block('amg', 1, b)
       read(b, nml=amg, iostat=ios, iomsg=msg)
@@ -66,7 +66,7 @@ contains
       interp_type=interp_type, p_max_elmts=p_max_elmts, trunc_factor=trunc_factor, &
       agg_num_levels=agg_num_levels, agg_interp_type=agg_interp_type, agg_p_max_elmts=agg_p_max_elmts, &
       num_paths=num_paths, strong_threshold=strong_threshold, max_row_sum=max_row_sum, &
-      max_levels=max_levels, max_coarse_size=max_coarse_size, relax_type=relax_type, &
+      max_levels=max_levels, max_coarse_size=max_coarse_size, relax_type=relax_type, relax_order=relax_order, &
       num_sweeps=num_sweeps, relax_wt=relax_wt, print_level=print_level, &
       interp_vec_variant=interp_vec_variant, interp_vec_qmax=interp_vec_qmax, cycle_type=cycle_type, &
       slab_threshold=slab_threshold)
@@ -108,6 +108,8 @@ contains
     call g%add('max_coarse_size', params%max_coarse_size, '-', 'rows of the coarsest level', '>= 1')
     call g%add('relax_type', params%relax_type, '-', 'smoother (every one symmetric: fit for CG)', &
                "'jacobi', 'hybrid-gs', 'hybrid-sgs', 'l1-sgs', 'l1-gs', 'chebyshev' or 'l1-jacobi'")
+    call g%add('relax_order', params%relax_order, '-', 'order of the Gauss-Seidel sweeps: the rows in their '// &
+               "order, or hypre's C points then F points", "'lexicographic' or 'cf'")
     call g%add('num_sweeps', params%num_sweeps, '-', 'smoothing sweeps down and up', '1..20')
     call g%add('relax_wt', params%relax_wt, '-', 'weight of Jacobi / SOR smoothers', '(0, 2)')
     call g%add('print_level', params%print_level, '-', "hypre's own output: 0 none .. 3", '0..3')

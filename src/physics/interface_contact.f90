@@ -236,6 +236,7 @@ contains
       end if
       mc => mechanics_of(ctx)
       mc%bubble = self%ccfg%space == 'bubble'
+      call self%ccfg%resolve_schur_solve(matrix .or. associated(ctx%find('fracture_flow')))
       sim%max_newton = self%ccfg%max_newton
       sim%max_cuts = self%ccfg%max_cuts
       sim%residual_test = .true.

@@ -136,6 +136,8 @@ if run cube 1 && run elastic 1 && run elastic_mumps 1 && run elastic_tie 1; then
     if [ -n "$its" ] && [ $((2 * worst)) -le $((3 * ns)) ]; then
       ok "contact slab (2 ranks): FGMRES $its per Newton iteration, within 1.5x the elastic $ns"
     else ko "contact slab (2 ranks): FGMRES '$its' per Newton iteration against the elastic $ns (1.5x allowed)"; fi
+    grep -q "slab: S\* by one V-cycle" "$out/contact/slab.log" && ok "contact slab: S* by one V-cycle (the log says)" \
+      || ko "contact slab: no line 'slab: S* by one V-cycle' in the log"
     grep -q 'stick/slip/open [0-9]*/[1-9][0-9]*/' "$out/contact/slab.log" && ok "contact slab: the fault slips" \
       || ko "contact slab: no slipping element"
     check "contact slab, FGMRES vs MUMPS, jumps, tractions, statuses (1e-6)" $PY tests/verification/check_contact.py \

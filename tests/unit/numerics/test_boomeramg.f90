@@ -89,6 +89,9 @@ contains
     p%cycle_type = 'f'
     call expect_bad(suite, p, 'cycle_type')
     p = amg_params_t()
+    p%relax_order = 'c-f'
+    call expect_bad(suite, p, 'relax_order')
+    p = amg_params_t()
     p%slab_threshold = 1.0_rp
     call expect_bad(suite, p, 'slab_threshold')
     p%slab_threshold = -0.1_rp
@@ -110,10 +113,14 @@ contains
     call suite%assert_equal_int(p%cycle_id(), 1, 'params: the default cycle is the V-cycle (1)')
     p%cycle_type = 'W'
     call suite%assert_equal_int(p%cycle_id(), 2, 'params: cycle_type W is 2')
+    p = amg_params_t()
+    call suite%assert_equal_int(p%relax_order_id(), 0, 'params: the default sweep order is lexicographic (0)')
+    p%relax_order = 'CF'
+    call suite%assert_equal_int(p%relax_order_id(), 1, 'params: relax_order CF is 1')
 
     p = amg_params_t()
     call p%to_lines(lines)
-    call suite%assert_equal_int(size(lines), 22, 'params: one echo line per field')
+    call suite%assert_equal_int(size(lines), 23, 'params: one echo line per field')
     call suite%assert_true(any(lines == 'coarsen_type = hmis') .and. any(lines == 'num_functions = 3') &
                            .and. any(lines == 'strong_threshold = 0.500000') .and. any(lines == 'cycle_type = v'), &
                            'params: echo lines read "name = value"')
