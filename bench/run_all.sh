@@ -7,7 +7,8 @@
 #   standard (make bench, build/bench/REPORT.md, about 1.5-2 hours here):
 #     elasticity, Mandel and the seed's explicit/implicit table, the peers
 #     on the same systems, strong scaling, contact on 5 levels with the
-#     four contact preconditioners a user runs, aFSAI against hypre's FSAI
+#     four contact preconditioners a user runs, aFSAI against hypre's FSAI,
+#     the robustness matrix, the solve phase's bandwidth against the triad
 #   large (make bench-large, build/bench/REPORT_large.md, about 3.5 hours
 #     here): the contact preconditioners' diagnostics (stronger AMG, exact
 #     inner solves of S*), the fluid in the fractures on 4 and 2 m cells
@@ -20,7 +21,7 @@
 # Usage: bench/run_all.sh [standard | large | script ...]   (default: standard)
 set -u
 cd "$(dirname "$0")/.."
-standard="run_bench.sh run_bench_biot.sh run_bench_peers.sh run_bench_scaling.sh run_bench_contact.sh run_bench_fsai.sh run_bench_robustness.sh"
+standard="run_bench.sh run_bench_biot.sh run_bench_peers.sh run_bench_scaling.sh run_bench_contact.sh run_bench_fsai.sh run_bench_robustness.sh run_bench_bandwidth.sh"
 large="run_bench_contact_diagnostics.sh run_bench_flow.sh run_bench_standins.sh run_bench_hi24l.sh run_bench_poro_faults.sh run_bench_field_coupled.sh"
 report=build/bench/REPORT.md
 case "${1:-standard}" in

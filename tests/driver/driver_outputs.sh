@@ -22,6 +22,18 @@ else
   ko "gmsh_block deck fails, see $out/gmsh.stdout"
 fi
 if r=$($PY tests/driver/check_oedometer.py "$out/gmsh" gmsh_block 2>&1); then ok "oedometer: $r"; else ko "oedometer: $r"; fi
+# 1b. hypre's set-up statistics (&amg print_level = 1) on 2 ranks, as
+# bench/run_bench_bandwidth.sh reads them: bench/solve_bytes.py's parse
+# against hypre's own grid and operator complexities and the log's level line
+sed -e "s#dir = 'out'.*#dir = '$out/amg_stats', fields = .false.#" -e "s#n_steps = 2 .*#n_steps = 1#" input/cube.nml > "$out/amg_stats.nml"
+printf "&amg\n  print_level = 1\n/\n" >> "$out/amg_stats.nml"
+if timeout 120 mpirun --oversubscribe -np 2 bin/geoblock "$out/amg_stats.nml" > "$out/amg_stats.stdout" 2>&1 < /dev/null \
+   && r=$($PY bench/solve_bytes.py --check "$out/amg_stats.stdout" 2>&1) \
+   && b=$($PY bench/solve_bytes.py "$out/amg_stats.stdout" 20 2>&1); then
+  ok "hypre's set-up statistics parsed (bench/solve_bytes.py): $r; an iteration's cells: $b"
+else
+  ko "hypre's set-up statistics: ${r:-} ${b:-} (see $out/amg_stats.stdout)"
+fi
 [ -f "$out/gmsh/gmsh_block.xdmf" ] && ok "XDMF written" || ko "no XDMF"
 [ -f "$out/gmsh/gmsh_block_0000.h5" ] && [ -f "$out/gmsh/gmsh_block_mesh.h5" ] && ok "HDF5 mesh and step files" \
   || ko "HDF5 files missing"

@@ -1,0 +1,121 @@
+#!/usr/bin/env python3
+"""Bytes a CG + BoomerAMG iteration moves, from a geoblock log written with
+&amg print_level = 1, and the bandwidth the solve phase reached.
+
+The model (8-byte reals, 4-byte integers: hypre 2.26 as Debian builds it,
+HYPRE_Int of 4 bytes, and our CSR with 4-byte local columns):
+
+- a CSR matrix pass reads 12 bytes a non-zero and 4 a row;
+- our CG (modules/numerics/cg.f90), per iteration: one product with our
+  matrix, 21 vector passes (the copies into and out of hypre's vectors 5,
+  r.z 2, the new direction 3, the product's in and out 2, p.Aq 2, the two
+  updates 6, the norm 1);
+- one V-cycle (one sweep down and one up, l1 Gauss-Seidel or l1 Jacobi:
+  the same bytes), on every level but the coarsest: the level's matrix
+  three times (the sweep down, the residual, the sweep up), its
+  interpolation twice (restriction as a transposed product, then the
+  correction), 15 vector passes on the level (the sweep's right side,
+  iterate in and out and l1 norms, twice; the residual's three) and 3 on the
+  next (the restricted right side, its zero guess, the correction's read);
+  the coarsest level's dense factor (rows^2 reals) once.
+
+hypre prints the interpolation's entries per row to one decimal only
+(avgW), so its non-zeros carry that rounding (under 5 % of P, under 1 % of
+the total here). Caches are not modelled: the coarse levels fit in them, so
+the measured rate is an upper bound of the memory traffic the solve needs.
+
+Usage: solve_bytes.py LOG TRIAD_GBS   prints one markdown table row's cells:
+iterations | solve s | s/it | our A MB | hierarchy MB | vectors MB | total MB | GB/s | share
+       solve_bytes.py --check LOG     the parse against hypre's own sums: the
+grid and operator complexities from the parsed levels against the ones hypre
+prints, the levels against the log's BoomerAMG line; exit 1 if they differ
+"""
+import re
+import sys
+
+
+def parse(path):
+    text = open(path, errors='replace').read()
+    m = re.search(r'displacement dofs: (\d+), matrix non-zeros: (\d+)', text)
+    if not m:
+        raise SystemExit(f'solve_bytes.py: {path}: no "displacement dofs" line')
+    n, nnz = int(m.group(1)), int(m.group(2))
+    levels, interp = [], []
+    section = None
+    for line in text.splitlines():
+        if line.startswith('Operator Matrix Information'):
+            section = 'A'
+            continue
+        if line.startswith('Interpolation Matrix Information'):
+            section = 'P'
+            continue
+        if 'Complexity' in line:
+            section = None
+            continue
+        if section == 'A':
+            f = line.split()
+            if len(f) >= 3 and f[0].isdigit():
+                levels.append((int(f[1]), int(f[2])))
+        elif section == 'P':
+            f = line.split()
+            if len(f) >= 7 and f[0].isdigit() and f[2] == 'x':
+                interp.append((int(f[1]), float(f[6])))
+    if not levels:
+        raise SystemExit(f'solve_bytes.py: {path}: no hypre set-up statistics (&amg print_level = 1?)')
+    step = re.search(r'iterations +(\d+) .* solve +([0-9.]+) s', text)
+    if not step:
+        raise SystemExit(f'solve_bytes.py: {path}: no step line with iterations and solve time')
+    return n, nnz, levels, interp, int(step.group(1)), float(step.group(2))
+
+
+def csr(nnz, rows):
+    return 12.0 * nnz + 4.0 * rows
+
+
+def model(n, nnz, levels, interp):
+    ours = csr(nnz, n)
+    vectors = 21.0 * 8 * n
+    hier = 0.0
+    for l in range(len(levels) - 1):
+        rows, entries = levels[l]
+        p_rows, p_avg = interp[l] if l < len(interp) else (rows, 0.0)
+        coarse = levels[l + 1][0]
+        hier += 3 * csr(entries, rows) + 2 * csr(p_rows * p_avg, p_rows)
+        vectors += 8.0 * (15 * rows + 3 * coarse)
+    hier += 8.0 * levels[-1][0] ** 2
+    return ours, hier, vectors
+
+
+def check(path):
+    text = open(path, errors='replace').read()
+    n, nnz, levels, interp, its, solve = parse(path)
+    grid = sum(r for r, _ in levels) / levels[0][0]
+    oper = sum(e for _, e in levels) / levels[0][1]
+    g = re.search(r'grid = ([0-9.]+)', text)
+    o = re.search(r'operator = ([0-9.]+)', text)
+    lv = re.search(r'BoomerAMG: (\d+) levels', text)
+    ok = (g and o and lv and abs(grid - float(g.group(1))) < 1e-5 and abs(oper - float(o.group(1))) < 1e-5
+          and int(lv.group(1)) == len(levels) and len(interp) == len(levels) - 1 and levels[0] == (n, nnz))
+    print(f'levels {len(levels)}, grid complexity {grid:.6f} (hypre {g.group(1) if g else "?"}), '
+          f'operator complexity {oper:.6f} (hypre {o.group(1) if o else "?"}), '
+          f'interpolation levels {len(interp)}, level 0 {levels[0]} (log: {n}, {nnz})')
+    return 0 if ok else 1
+
+
+def main():
+    if len(sys.argv) == 3 and sys.argv[1] == '--check':
+        sys.exit(check(sys.argv[2]))
+    if len(sys.argv) != 3:
+        raise SystemExit(__doc__)
+    n, nnz, levels, interp, its, solve = parse(sys.argv[1])
+    triad = float(sys.argv[2])
+    ours, hier, vectors = model(n, nnz, levels, interp)
+    total = ours + hier + vectors
+    rate = total * its / solve / 1e9 if solve > 0 else 0.0
+    mb = 1e6
+    print(f'{its} | {solve:.2f} | {solve / max(its, 1):.3f} | {ours / mb:.0f} | {hier / mb:.0f} | '
+          f'{vectors / mb:.0f} | {total / mb:.0f} | {rate:.1f} | {100 * rate / triad:.0f} %')
+
+
+if __name__ == '__main__':
+    main()
