@@ -16,8 +16,10 @@ against the others, with the others' Schur complement approximated by
 PETSc's 'selfp' (A11 - A10 diag(A00)^-1 A01, assembled), and so on down the
 blocks; full factorization at every level. Each single block is solved by
 one BoomerAMG V-cycle with our own default settings (HMIS, ext+i with at
-most 6 entries, one aggressive level, strong threshold 0.5, l1-Gauss-Seidel;
-three functions for the displacement, whose rows come in whole nodes),
+most 6 entries, one aggressive level, strong threshold 0.5, the smoother
+geoblock's physics takes (--smoother: Chebyshev for Biot's u, q, p, else
+l1-Gauss-Seidel in the rows' order); three functions for the displacement,
+whose rows come in whole nodes),
 except the flux q and the traction t blocks (a mass matrix, a stabilization),
 by Jacobi. Blocks given together with --group (e.g. pm,p: the matrix and
 the fracture pressure of poromechanics with faults, one Schur complement
@@ -59,8 +61,18 @@ AMG = {
     "pc_hypre_boomeramg_agg_nl": "1",
     "pc_hypre_boomeramg_agg_num_paths": "1",
     "pc_hypre_boomeramg_strong_threshold": "0.5",
-    "pc_hypre_boomeramg_relax_type_all": "l1scaled-SOR/Jacobi",
     "pc_hypre_boomeramg_max_iter": "1",
+}
+# the smoothers as ours (modules/numerics/amg_params.f90): l1 Gauss-Seidel
+# forward down, backward up, rows in their order (PETSc's default is the C/F
+# order), or hypre's Chebyshev; the coarsest level by Gaussian elimination.
+# Biot's systems (u, q, p) default to Chebyshev, as geoblock's 'biot' does.
+SMOOTHERS = {
+    "l1-gs": {"pc_hypre_boomeramg_relax_type_down": "l1-Gauss-Seidel",
+              "pc_hypre_boomeramg_relax_type_up": "backward-l1-Gauss-Seidel",
+              "pc_hypre_boomeramg_no_CF": "true"},
+    "chebyshev": {"pc_hypre_boomeramg_relax_type_down": "Chebyshev",
+                  "pc_hypre_boomeramg_relax_type_up": "Chebyshev"},
 }
 JACOBI_FIELDS = ("q", "t")
 
@@ -202,9 +214,15 @@ def main():
     ap.add_argument("--group", default=None,
                     help="blocks to split together, comma separated ('pm,p' by default when both are exported; "
                          "'none': every block alone)")
+    ap.add_argument("--smoother", choices=sorted(SMOOTHERS), default=None,
+                    help="BoomerAMG's smoother (default: geoblock's for the physics, 'chebyshev' for u,q,p, "
+                         "else 'l1-gs')")
     args = ap.parse_args()
     comm = PETSc.COMM_WORLD
     n, coo, b, blk, names = load(args.stem)
+    smoother = args.smoother or ("chebyshev" if names == ["u", "q", "p"] else "l1-gs")
+    AMG.update(SMOOTHERS[smoother])
+    AMG["pc_hypre_boomeramg_relax_type_coarse"] = "Gaussian-elimination"
     group = args.group
     if group is None:
         group = "pm,p" if "pm" in names and "p" in names else "none"
@@ -266,7 +284,7 @@ def main():
     total = t_setup + t_solve
     line = (f"petsc fieldsplit ({','.join(names)}): {'converged' if reason > 0 else 'NOT converged (reason ' + str(reason) + ')'}"
             f", iterations {its}, setup {t_setup:.3f} s, solve {t_solve:.3f} s, total {total:.3f} s, "
-            f"true rel. residual {rel:.2e}, peak memory {peak:.0f} MB (rank 0), ranks {comm.getSize()}")
+            f"true rel. residual {rel:.2e}, peak memory {peak:.0f} MB (rank 0), ranks {comm.getSize()}, smoother {smoother}")
     if args.ours_setup is not None and args.ours_solve is not None:
         ours = args.ours_setup + args.ours_solve
         line += f"; ours {ours:.3f} s" + (f" in {args.ours_its} its" if args.ours_its else "") + \

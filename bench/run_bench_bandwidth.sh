@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The bandwidth the solve phase reaches (issue 34, goal 5): the machine's
 # triad (tools/triad.f90) and, in the same run, CG + BoomerAMG on the clamped
-# cube of bench/run_bench.sh (n = 64: 823,875 unknowns, to 1e-8) with the
-# default smoother (l1 Gauss-Seidel) and with l1 Jacobi (the same bytes a
-# sweep), on 1 and 2 ranks. The bytes an iteration moves (our matrix, hypre's
+# cube of bench/run_bench.sh (n = 64: 823,875 unknowns, to 1e-8) with
+# elasticity's default smoother (Chebyshev), l1 Gauss-Seidel (the other
+# physics' default) and l1 Jacobi (the bytes of Gauss-Seidel, no order
+# between the rows), on 1 and 2 ranks. The bytes an iteration moves (our matrix, hypre's
 # hierarchy, the vectors) come from hypre's set-up statistics
 # (&amg print_level = 1) and the model in bench/solve_bytes.py; the rate is
 # those bytes times the iterations over the solve time, the share its ratio
@@ -14,7 +15,7 @@ cd "$(dirname "$0")/.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 n=${1:-64}
 ranks=${2:-"1 2"}
-smoothers=${3:-"l1-gs l1-jacobi"}
+smoothers=${3:-"chebyshev l1-gs l1-jacobi"}
 PY=${PYTHON:-/usr/bin/python3}
 out=build/bench
 mkdir -p "$out" build/tools

@@ -10,14 +10,16 @@ HYPRE_Int of 4 bytes, and our CSR with 4-byte local columns):
   matrix, 21 vector passes (the copies into and out of hypre's vectors 5,
   r.z 2, the new direction 3, the product's in and out 2, p.Aq 2, the two
   updates 6, the norm 1);
-- one V-cycle (one sweep down and one up, l1 Gauss-Seidel or l1 Jacobi:
-  the same bytes), on every level but the coarsest: the level's matrix
-  three times (the sweep down, the residual, the sweep up), its
-  interpolation twice (restriction as a transposed product, then the
-  correction), 15 vector passes on the level (the sweep's right side,
-  iterate in and out and l1 norms, twice; the residual's three) and 3 on the
-  next (the restricted right side, its zero guess, the correction's read);
-  the coarsest level's dense factor (rows^2 reals) once.
+- one V-cycle (a sweep down and one up, of the types hypre prints), on
+  every level but the coarsest: a Gauss-Seidel or Jacobi sweep reads the
+  level's matrix once and makes 4 vector passes (right side, iterate in and
+  out, l1 norms); a Chebyshev sweep (hypre's relax type 16, degree 2, the
+  diagonally scaled form of par_cheby.c) reads it twice (the residual and
+  one product) and makes 22 vector passes; then the residual (the matrix
+  once, 3 passes), the interpolation twice (restriction as a transposed
+  product, then the correction), 3 vector passes on the next level (the
+  restricted right side, its zero guess, the correction's read); the
+  coarsest level's dense factor (rows^2 reals) once.
 
 hypre prints the interpolation's entries per row to one decimal only
 (avgW), so its non-zeros carry that rounding (under 5 % of P, under 1 % of
@@ -62,33 +64,41 @@ def parse(path):
                 interp.append((int(f[1]), float(f[6])))
     if not levels:
         raise SystemExit(f'solve_bytes.py: {path}: no hypre set-up statistics (&amg print_level = 1?)')
+    types = re.search(r'Type 0=Jac.*: +(\d+) +(\d+) +(\d+)', text)
+    relax = (int(types.group(1)), int(types.group(2))) if types else (13, 14)
     step = re.search(r'iterations +(\d+) .* solve +([0-9.]+) s', text)
     if not step:
         raise SystemExit(f'solve_bytes.py: {path}: no step line with iterations and solve time')
-    return n, nnz, levels, interp, int(step.group(1)), float(step.group(2))
+    return n, nnz, levels, interp, int(step.group(1)), float(step.group(2)), relax
 
 
 def csr(nnz, rows):
     return 12.0 * nnz + 4.0 * rows
 
 
-def model(n, nnz, levels, interp):
+def sweep(relax_type):
+    """(matrix passes, vector passes) of one smoothing sweep of a hypre relax type."""
+    return (2, 22) if relax_type == 16 else (1, 4)
+
+
+def model(n, nnz, levels, interp, relax=(13, 14)):
     ours = csr(nnz, n)
     vectors = 21.0 * 8 * n
     hier = 0.0
+    (m_down, v_down), (m_up, v_up) = sweep(relax[0]), sweep(relax[1])
     for l in range(len(levels) - 1):
         rows, entries = levels[l]
         p_rows, p_avg = interp[l] if l < len(interp) else (rows, 0.0)
         coarse = levels[l + 1][0]
-        hier += 3 * csr(entries, rows) + 2 * csr(p_rows * p_avg, p_rows)
-        vectors += 8.0 * (15 * rows + 3 * coarse)
+        hier += (m_down + 1 + m_up) * csr(entries, rows) + 2 * csr(p_rows * p_avg, p_rows)
+        vectors += 8.0 * ((v_down + 3 + v_up + 4) * rows + 3 * coarse)
     hier += 8.0 * levels[-1][0] ** 2
     return ours, hier, vectors
 
 
 def check(path):
     text = open(path, errors='replace').read()
-    n, nnz, levels, interp, its, solve = parse(path)
+    n, nnz, levels, interp, its, solve, relax = parse(path)
     grid = sum(r for r, _ in levels) / levels[0][0]
     oper = sum(e for _, e in levels) / levels[0][1]
     g = re.search(r'grid = ([0-9.]+)', text)
@@ -107,9 +117,9 @@ def main():
         sys.exit(check(sys.argv[2]))
     if len(sys.argv) != 3:
         raise SystemExit(__doc__)
-    n, nnz, levels, interp, its, solve = parse(sys.argv[1])
+    n, nnz, levels, interp, its, solve, relax = parse(sys.argv[1])
     triad = float(sys.argv[2])
-    ours, hier, vectors = model(n, nnz, levels, interp)
+    ours, hier, vectors = model(n, nnz, levels, interp, relax)
     total = ours + hier + vectors
     rate = total * its / solve / 1e9 if solve > 0 else 0.0
     mb = 1e6

@@ -45,6 +45,21 @@
 !>                               complexity 1.45 instead of 1.33 and ~30% more
 !>                               solve time, 0.25 took 25, 29, 31.
 !>   l1-gs, 1 sweep            : hypre's default smoother, robust in parallel.
+!>                               Elasticity and Biot default to chebyshev
+!>                               instead (simulation read_common's
+!>                               default_relax): hypre's degree-2 polynomial
+!>                               in the diagonally scaled matrix streams the
+!>                               rows where Gauss-Seidel waits on each row's
+!>                               predecessor. Mandel at the seed's size
+!>                               (2026-12-02, gamma 0.15, 1, 100): 29, 26,
+!>                               19 FGMRES iterations against 31, 29, 21 on
+!>                               2 ranks, set-up + solve 0.81-0.95x (1 rank
+!>                               0.82-0.86x); its elastic CG 15 against 16,
+!>                               solve 0.63-0.82x. Contact and the fluid in
+!>                               the fractures keep l1-gs: the eigenvalue
+!>                               estimates made the nine fractures' S**
+!>                               set-up 4.8 s against 3.7 s a Newton
+!>                               iteration for the same solve.
 !>   relax_order lexicographic : the Gauss-Seidel sweeps run through the rows
 !>                               once, in their order, rather than hypre's
 !>                               C-then-F order, which walks every level's

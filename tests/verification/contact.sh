@@ -253,6 +253,9 @@ for r in block_mumps1:pcg block_classical:vcycle block_mumps1_bubble:vcycle; do
   grep -q "^  schur_solve *= '${r#*:}'" "$out/${r%:*}_parameters.nml" && \
     ok "${r%:*}: schur_solve resolved to '${r#*:}'" || ko "${r%:*}: schur_solve not resolved to '${r#*:}'"
 done
+# contact keeps l1 Gauss-Seidel (elasticity and biot default to Chebyshev)
+grep -q "^  relax_type *= 'l1-gs'" "$out/block_mumps1_parameters.nml" && ok "contact: &amg relax_type 'l1-gs' by default" \
+  || ko "contact: &amg relax_type is not 'l1-gs' by default ($out/block_mumps1_parameters.nml)"
 
 # a displacement with a load history in load steps: the top's uz at load
 # factor t is -1e-4 m x t x f(t), f from the table (f(0.5) = 1, f(1) = 3);
