@@ -55,7 +55,7 @@
 !>                               19 FGMRES iterations against 31, 29, 21 on
 !>                               2 ranks, set-up + solve 0.81-0.95x (1 rank
 !>                               0.82-0.86x); its elastic CG 15 against 16,
-!>                               solve 0.63-0.82x. Contact and the fluid in
+!>                               solve 0.67-0.78x. Contact and the fluid in
 !>                               the fractures keep l1-gs: the eigenvalue
 !>                               estimates made the nine fractures' S**
 !>                               set-up 4.8 s against 3.7 s a Newton
