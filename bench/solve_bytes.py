@@ -13,7 +13,7 @@ HYPRE_Int of 4 bytes, and our CSR with 4-byte local columns):
 - one V-cycle (a sweep down and one up, of the types hypre prints), on
   every level but the coarsest: a Gauss-Seidel or Jacobi sweep reads the
   level's matrix once and makes 4 vector passes (right side, iterate in and
-  out, l1 norms); a Chebyshev sweep (hypre's relax type 16, degree 2, the
+  out, l1 norms), a symmetric one (types 6, 8) twice that; a Chebyshev sweep (hypre's relax type 16, degree 2, the
   diagonally scaled form of par_cheby.c) reads it twice (the residual and
   one product) and makes 22 vector passes; then the residual (the matrix
   once, 3 passes), the interpolation twice (restriction as a transposed
@@ -78,7 +78,11 @@ def csr(nnz, rows):
 
 def sweep(relax_type):
     """(matrix passes, vector passes) of one smoothing sweep of a hypre relax type."""
-    return (2, 22) if relax_type == 16 else (1, 4)
+    if relax_type == 16:
+        return 2, 22
+    if relax_type in (6, 8):          # symmetric Gauss-Seidel: a forward and a backward pass
+        return 2, 8
+    return 1, 4
 
 
 def model(n, nnz, levels, interp, relax=(13, 14)):
