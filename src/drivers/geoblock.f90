@@ -28,6 +28,7 @@ program geoblock
   use deck_reference, only: reference_t
   use deck_catalogue, only: build_reference
   use build_info, only: geoblock_version, git_commit, built_against
+  use machine_memory, only: return_freed_memory
   implicit none
 
   !> the deck groups (the repeatable ones may appear more than once)
@@ -46,6 +47,7 @@ program geoblock
   character(len=path_len) :: path
   character(len=16) :: mode
 
+  call return_freed_memory()
   call comm%init_world()
   call log%init(comm)
   call command_line(comm, log, mode, path)
