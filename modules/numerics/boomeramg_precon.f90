@@ -55,7 +55,9 @@ module boomeramg_precon
     real(rp) :: grid_complexity = 0.0_rp           !< sum of level rows / fine rows
   contains
     procedure :: setup
+    procedure :: setup_taking
     procedure :: update
+    procedure :: matrix_product
     procedure :: apply => amg_apply
     procedure :: name => amg_name
     procedure :: measure_hierarchy
@@ -80,8 +82,42 @@ contains
     integer, intent(in), optional :: dof_func(:)
     real(rp), intent(in), optional :: modes(:,:)   !< (owned rows, k): used with params%interp_vec_variant > 0
     real(rp) :: t0
-
     t0 = wall_time()
+    call copy_in(self, a, params, status, dof_func, modes)
+    if (.not. status%ok()) return
+    call build_hierarchy(self, status)
+    self%setup_time = wall_time() - t0
+  end subroutine setup
+
+  !> As setup, but hypre's copy takes the place of a's values: they are
+  !> deallocated as soon as hypre holds them, before the hierarchy is
+  !> built, so that the matrix is never stored twice beside its hierarchy.
+  !> a keeps its pattern; products with the matrix are then
+  !> matrix_product's, and update() needs a's values back. Collective.
+  subroutine setup_taking(self, a, params, status, modes)
+    class(boomeramg_precon_t), intent(inout), target :: self
+    type(csr_matrix_t), intent(inout) :: a
+    type(amg_params_t), intent(in) :: params
+    type(error_status_t), intent(inout) :: status
+    real(rp), intent(in), optional :: modes(:,:)   !< as for setup
+    real(rp) :: t0
+    t0 = wall_time()
+    call copy_in(self, a, params, status, modes=modes)
+    if (allocated(a%val)) deallocate(a%val)
+    if (.not. status%ok()) return
+    call build_hierarchy(self, status)
+    self%setup_time = wall_time() - t0
+  end subroutine setup_taking
+
+  !> setup's first part: the settings, the function ids and hypre's copy
+  !> of a. Collective.
+  subroutine copy_in(self, a, params, status, dof_func, modes)
+    class(boomeramg_precon_t), intent(inout), target :: self
+    type(csr_matrix_t), intent(in) :: a
+    type(amg_params_t), intent(in) :: params
+    type(error_status_t), intent(inout) :: status
+    integer, intent(in), optional :: dof_func(:)
+    real(rp), intent(in), optional :: modes(:,:)
     call self%free()
     call params%validate(status)
     if (.not. status%ok()) return
@@ -95,18 +131,17 @@ contains
     if (.not. status%ok()) return
     if (present(modes) .and. params%interp_vec_variant > 0) self%modes = modes
     call self%ij%init(a, status)
-    if (.not. status%ok()) return
-    call build_hierarchy(self, status)
-    self%setup_time = wall_time() - t0
-  end subroutine setup
+  end subroutine copy_in
 
   !> New values of the matrix given to setup() (same pattern): copy them and
   !> rebuild the hierarchy with the same settings. Collective; setup_time is
-  !> the time of this update.
-  subroutine update(self, a, status)
+  !> the time of this update. taking: as for setup_taking, a's values are
+  !> deallocated once hypre holds them.
+  subroutine update(self, a, status, taking)
     class(boomeramg_precon_t), intent(inout), target :: self
-    type(csr_matrix_t), intent(in) :: a
+    type(csr_matrix_t), intent(inout) :: a
     type(error_status_t), intent(inout) :: status
+    logical, intent(in), optional :: taking
     integer(hypre_int) :: ierr
     real(rp) :: t0
     t0 = wall_time()
@@ -119,10 +154,22 @@ contains
     if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
     self%solver = c_null_ptr
     call self%ij%update_values(a, status)
+    if (present(taking)) then
+      if (taking .and. allocated(a%val)) deallocate(a%val)
+    end if
     if (.not. status%ok()) return
     call build_hierarchy(self, status)
     self%setup_time = wall_time() - t0
   end subroutine update
+
+  !> y = A x with hypre's copy of A (owned entries). Collective.
+  subroutine matrix_product(self, x, y)
+    class(boomeramg_precon_t), intent(inout) :: self
+    real(rp), intent(in) :: x(:)
+    real(rp), intent(out) :: y(:)
+    if (.not. self%ij%is_ready()) error stop 'boomeramg_precon%matrix_product: setup() was not called'
+    call self%ij%matvec(x, y)
+  end subroutine matrix_product
 
   !> Function id of every owned row (num_functions > 1), checked.
   subroutine make_dof_func(self, a, status, dof_func)

@@ -18,6 +18,7 @@ module inner_cg_precon
   use error_status, only: error_status_t
   use csr_matrix, only: csr_matrix_t
   use precon, only: precon_t
+  use boomeramg_precon, only: boomeramg_precon_t
   use cg, only: cg_t
   use krylov, only: solve_info_t
   implicit none
@@ -31,6 +32,9 @@ module inner_cg_precon
     type(cg_t) :: solver
     integer :: iterations = 0                     !< inner CG iterations, summed over applications
     integer :: steps = 0                          !< > 0: that many PCG steps, no tolerance
+    !> the steps' products with A by the inner BoomerAMG's copy of A (a then
+    !> needs its pattern only: setup_taking)
+    logical :: products_by_inner = .false.
     real(rp), allocatable :: res(:), w(:), p(:), q(:)   !< work vectors of the steps
     integer :: applications = 0
   contains
@@ -57,14 +61,24 @@ contains
   end subroutine inner_cg_init
 
   !> steps (>= 1) PCG steps with a (pointed to) and inner (moved in, set up
-  !> on a) from zero at every application.
-  subroutine inner_cg_init_steps(self, a, inner, steps)
+  !> on a) from zero at every application. by_inner: the products with A
+  !> are the inner BoomerAMG's (its copy of a; a BoomerAMG inner only).
+  subroutine inner_cg_init_steps(self, a, inner, steps, by_inner)
     class(inner_cg_precon_t), intent(inout) :: self
     type(csr_matrix_t), target, intent(in) :: a
     class(precon_t), allocatable, intent(inout) :: inner
     integer, intent(in) :: steps
+    logical, intent(in), optional :: by_inner
     call attach(self, a, inner)
     self%steps = max(steps, 1)
+    if (present(by_inner)) self%products_by_inner = by_inner
+    if (self%products_by_inner) then
+      select type (m => self%inner)
+      type is (boomeramg_precon_t)
+      class default
+        error stop 'inner_cg_precon%init_steps: products by the inner preconditioner need a BoomerAMG'
+      end select
+    end if
     allocate(self%res(0), self%w(0), self%p(0), self%q(0))
   end subroutine inner_cg_init_steps
 
@@ -109,7 +123,7 @@ contains
       else
         p = w + (rz / rz_old) * p
       end if
-      call self%a%apply(p, q)
+      call product(self, p, q)
       pq = pdot(self%a%row_map%comm, p, q)
       if (.not. (pq > 0.0_rp)) then
         if (k == 1) z = w
@@ -123,6 +137,21 @@ contains
     end do
     end associate
   end subroutine apply_steps
+
+  !> q = A p: a's product, or the inner BoomerAMG's (products_by_inner).
+  subroutine product(self, p, q)
+    class(inner_cg_precon_t), intent(inout) :: self
+    real(rp), intent(in) :: p(:)
+    real(rp), intent(out) :: q(:)
+    if (self%products_by_inner) then
+      select type (m => self%inner)
+      type is (boomeramg_precon_t)
+        call m%matrix_product(p, q)
+      end select
+    else
+      call self%a%apply(p, q)
+    end if
+  end subroutine product
 
   subroutine inner_cg_apply(self, r, z)
     class(inner_cg_precon_t), intent(inout) :: self
@@ -160,6 +189,7 @@ contains
     self%iterations = 0
     self%applications = 0
     self%steps = 0
+    self%products_by_inner = .false.
     if (allocated(self%res)) deallocate(self%res, self%w, self%p, self%q)
     self%setup_time = 0.0_rp
   end subroutine inner_cg_free

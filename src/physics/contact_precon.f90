@@ -120,7 +120,12 @@ module contact_precon
 
   type :: contact_precon_t
     type(block_precon_t) :: bp
-    type(csr_matrix_t) :: s                      !< S* (reordered, augmented) or -S (classical)
+    !> S* (reordered, augmented) or -S (classical). S*'s values live in its
+    !> BoomerAMG's copy only (setup_taking), between set-ups, unless
+    !> schur_solve = 'inner_cg' needs them: the pattern stays, for the next
+    !> refresh in place
+    type(csr_matrix_t) :: s
+    real(rp), allocatable :: s_diag(:)           !< flow, pressure_block = 'schur': S*'s diagonal (owned rows)
     type(global_csr_t) :: gc1                    !< C1 (classical: diag(K)^-1 C1)
     type(csr_matrix_t) :: sp                     !< S_p, the pressure's Schur complement (flow)
     type(global_csr_t) :: gup                    !< A_up = Q1 (flow, constant)
@@ -315,6 +320,7 @@ contains
     integer, parameter :: inner_max_iter = 500
     real(rp) :: t0
     integer(gp) :: m0
+    logical :: taking
     t0 = wall_time()
     m0 = peak_resident_bytes()
     allocate(h(phys%ic%t%n_owned()))
@@ -326,14 +332,18 @@ contains
     call gc2%free()
     ! S** (pressure_block = 'eliminated') takes away Q1 D_p^-1 A_pu
     if (self%p_eliminated) call pressure_correction(self, phys, corr)
+    taking = ccfg%schur_solve /= 'inner_cg'
     if (allocated(self%bp%s(phys%bu)%p)) then
       samg => schur_amg(self%bp%s(phys%bu)%p)
       if (associated(samg)) then
         if (refreshed(self, phys, mesh, prod, corr)) then
+          call prod%free()
+          call corr%free()
+          call keep_diagonal(self, phys)
           self%t_smat = wall_time() - t0
           self%m_smat = peak_resident_bytes() - m0
           m0 = peak_resident_bytes()
-          call samg%update(self%s, status)
+          call samg%update(self%s, status, taking)
           self%t_sprec = samg%setup_time
           self%m_sprec = peak_resident_bytes() - m0
           self%bp%s(phys%bu)%p%setup_time = samg%setup_time
@@ -359,9 +369,14 @@ contains
     params%amg = amg
     ! S* has K's near-null space: the rigid-body modes, where asked (&amg)
     if (amg%interp_vec_variant > 0) params%modes = phys%mc%mech%rigid_body_modes(mesh)
+    call keep_diagonal(self, phys)
     self%t_smat = wall_time() - t0
     self%m_smat = peak_resident_bytes() - m0
-    call make_and_setup('boomeramg', p, self%s, params, status)
+    if (taking) then
+      call setup_taking(self%s, params, p, status)
+    else
+      call make_and_setup('boomeramg', p, self%s, params, status)
+    end if
     if (.not. status%ok()) return
     self%t_sprec = p%setup_time
     self%m_sprec = p%setup_rise
@@ -371,7 +386,7 @@ contains
       select type (w)
       type is (inner_cg_precon_t)
         if (ccfg%schur_solve == 'pcg') then
-          call w%init_steps(self%s, p, ccfg%schur_its)
+          call w%init_steps(self%s, p, ccfg%schur_its, by_inner=taking)
         else
           call w%init(self%s, p, inner_rtol, inner_max_iter, status)
         end if
@@ -380,6 +395,38 @@ contains
     end if
     call replace(self%bp%s(phys%bu)%p, p)
   end subroutine reordered_schur
+
+  !> p = BoomerAMG of S*, made with boomeramg_precon's setup_taking: S*'s
+  !> values go to hypre and are freed here before the hierarchy is built.
+  !> Times itself as make_and_setup does. Collective.
+  subroutine setup_taking(s, params, p, status)
+    type(csr_matrix_t), intent(inout) :: s
+    type(precon_params_t), intent(in) :: params
+    class(precon_t), allocatable, intent(inout) :: p
+    type(error_status_t), intent(inout) :: status
+    type(boomeramg_precon_t), allocatable :: amg
+    integer(gp) :: m0
+    m0 = peak_resident_bytes()
+    allocate(amg)
+    if (allocated(params%modes)) then
+      call amg%setup_taking(s, params%amg, status, params%modes)
+    else
+      call amg%setup_taking(s, params%amg, status)
+    end if
+    amg%setup_rise = max(peak_resident_bytes() - m0, 0_gp)
+    call move_alloc(amg, p)
+  end subroutine setup_taking
+
+  !> S*'s diagonal, while its values are here, for pressure_schur (the
+  !> fluid with pressure_block = 'schur').
+  subroutine keep_diagonal(self, phys)
+    type(contact_precon_t), intent(inout) :: self
+    type(contact_view_t), intent(in) :: phys
+    if (.not. phys%flow .or. self%p_eliminated) return
+    if (allocated(self%s_diag)) deallocate(self%s_diag)
+    allocate(self%s_diag(self%s%n_rows))
+    call self%s%diagonal(self%s_diag)
+  end subroutine keep_diagonal
 
   !> The BoomerAMG of S*'s preconditioner p: p itself ('vcycle') or the one
   !> inside its CG ('pcg', 'inner_cg', which point to S*); null otherwise.
@@ -406,6 +453,7 @@ contains
     type(dist_mesh_t), intent(in) :: mesh
     type(global_csr_t), intent(in) :: prod, corr
     logical :: fits
+    if (.not. allocated(self%s%val)) allocate(self%s%val(self%s%nnz()))
     self%s%val = 0.0_rp
     call add_csr_to_csr(1.0_rp, phys%sys%a(phys%bu, phys%bu), self%s, fits)
     if (fits) call add_to_csr(1.0_rp, prod, self%s, fits)
@@ -601,7 +649,7 @@ contains
     call to_csr(gbup, phys%mc%mech%u%map, bup)
     call self%bp%set_explicit(phys%bt, phys%bp, 1.0_rp, ftp)
     gup_d = gbup
-    call scale_rows_by_diagonal(self%s, gup_d)
+    call divide_rows(gup_d, self%s_diag)
     call from_csr(phys%sys%a(phys%bp, phys%bu), gpu)
     call from_csr(phys%sys%a(phys%bp, phys%bp), gpp)
     call gcsr_multiply(gpu, gup_d, prod)
@@ -722,6 +770,7 @@ contains
     class(contact_precon_t), intent(inout) :: self
     call self%bp%free()
     call self%s%free()
+    if (allocated(self%s_diag)) deallocate(self%s_diag)
     call self%gc1%free()
     call self%sp%free()
     call self%gup%free()

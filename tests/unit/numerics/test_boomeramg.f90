@@ -14,6 +14,8 @@ program test_boomeramg
   use dist_vector, only: pnorm2
   use amg_params, only: amg_params_t, amg_line_len
   use boomeramg_precon, only: boomeramg_precon_t
+  use precon, only: precon_t
+  use inner_cg_precon, only: inner_cg_precon_t
   use assertions, only: test_suite_t
   use fixture_matrices, only: build_laplacian
   implicit none
@@ -25,6 +27,7 @@ program test_boomeramg
   call suite%init('boomeramg', comm)
   call test_params(suite)
   call test_scalar(suite, comm)
+  call test_taking(suite, comm)
   call test_systems(suite, comm)
   call test_dof_func(suite, comm)
   call suite%finish()
@@ -210,6 +213,75 @@ contains
     call a%free()
     call a2%free()
   end subroutine test_scalar
+
+  !> setup_taking on a scalar Laplacian (27000 rows, given to hypre 997
+  !> entries at a time): a's values are gone, its pattern stays; hypre's
+  !> product is a's, the V-cycle the one of a plain setup; update(taking)
+  !> takes the new values too; PCG steps with the inner AMG's products give
+  !> those with a's.
+  subroutine test_taking(suite, comm)
+    type(test_suite_t), intent(inout) :: suite
+    type(parallel_comm_t), intent(in) :: comm
+    type(index_map_t), target :: row_map, col_map
+    type(csr_matrix_t), target :: a, b
+    type(boomeramg_precon_t) :: amg, plain
+    class(precon_t), allocatable :: inner1, inner2
+    type(inner_cg_precon_t) :: cg_by_inner, cg_by_a
+    type(amg_params_t) :: p
+    type(error_status_t) :: st
+    real(rp), allocatable :: x(:), y(:), yh(:), z1(:), z2(:)
+
+    call build_laplacian(comm, 30, 1, [1.0_rp], row_map, col_map, a)
+    b = a
+    p%num_functions = 1
+    amg%ij%block_entries = 997
+    call amg%setup_taking(a, p, st)
+    call suite%assert_true(st%ok(), 'taking: setup_taking succeeds: '//trim(st%msg))
+    if (.not. st%ok()) return
+    call suite%assert_true(.not. allocated(a%val) .and. a%nnz() == b%nnz(), &
+                           'taking: the values are freed, the pattern stays')
+    call plain%setup(b, p, st)
+    allocate(x(b%n_rows), y(b%n_rows), yh(b%n_rows), z1(b%n_rows), z2(b%n_rows))
+    call fill_test_vector(b, x)
+    call b%apply(x, y)
+    call amg%matrix_product(x, yh)
+    call suite%assert_close_array(yh, y, 1.0e-12_rp, 'taking: matrix_product equals the product of a copy of a')
+    call amg%apply(x, z1)
+    call plain%apply(x, z2)
+    call suite%assert_close_array(z1, z2, 1.0e-13_rp, 'taking: the V-cycle is the one of a plain setup')
+
+    allocate(a%val(a%nnz()))
+    a%val = 3.0_rp * b%val
+    call amg%update(a, st, taking=.true.)
+    call suite%assert_true(st%ok() .and. .not. allocated(a%val), 'taking: update(taking) takes the new values')
+    call amg%matrix_product(x, yh)
+    call suite%assert_close_array(yh, 3.0_rp * y, 1.0e-12_rp, 'taking: matrix_product is 3A after the update')
+
+    ! two PCG steps: products by the inner AMG against a's (both 3A)
+    b%val = 3.0_rp * b%val
+    allocate(a%val(a%nnz()))
+    a%val = b%val
+    allocate(boomeramg_precon_t :: inner1, inner2)
+    select type (inner1)
+    type is (boomeramg_precon_t)
+      call inner1%setup_taking(a, p, st)
+    end select
+    select type (inner2)
+    type is (boomeramg_precon_t)
+      call inner2%setup(b, p, st)
+    end select
+    call cg_by_inner%init_steps(a, inner1, 2, by_inner=.true.)
+    call cg_by_a%init_steps(b, inner2, 2)
+    call cg_by_inner%apply(x, z1)
+    call cg_by_a%apply(x, z2)
+    call suite%assert_close_array(z1, z2, 1.0e-11_rp, 'taking: PCG steps by the inner AMG''s products give a''s')
+    call cg_by_inner%free()
+    call cg_by_a%free()
+    call amg%free()
+    call plain%free()
+    call a%free()
+    call b%free()
+  end subroutine test_taking
 
   !> Three decoupled Laplacians scaled by 1, 100 and 0.01, interleaved
   !> (16^3 nodes, 12288 unknowns), with the default (elasticity) settings:
