@@ -69,7 +69,10 @@
 !> Schur parts are rebuilt at every Newton iteration (kept while every
 !> element sticks, &contact reuse), because C2 and the (t,t) block follow
 !> the statuses. S* itself is then refreshed in place (reordered_schur):
-!> no copy of K is kept, and no second S* is formed. Its first build puts
+!> no copy of K is kept, and no second S* is formed; between set-ups its
+!> values live in its BoomerAMG's hypre copy only (setup_taking; the PCG
+!> steps of schur_solve = 'pcg' use that copy's product), here its pattern
+!> (HI24L medium, 2 ranks: the peak 1,206 -> 1,023 MB a rank). Its first build puts
 !> K's values on the union of K's and the product's patterns (union_to_csr)
 !> and adds the product there: on the nine fractures at 2 m cells (1 rank)
 !> the run's peak fell from 851 to 777 MB, the build's rise of it from 492
