@@ -10,6 +10,11 @@
 !> pattern (they were 4 bytes a non-zero beside hypre's own 12: 0.4 GB a
 !> rank for HI24L's S* at the seed's size).
 !>
+!> The matrix comes as a csr_matrix_t or row by row from an ij_rows_t, a
+!> source that makes each owned row's global column ids and values when
+!> asked (a sum of matrices merged a row at a time, so that the sum itself
+!> is never stored beside hypre's copy).
+!>
 !> A hypre_ij_t holds C handles: never copy one by assignment (the copy would
 !> share, and might free twice, the handles); call free() when done.
 module hypre_ij
@@ -18,6 +23,7 @@ module hypre_ij
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
   use csr_matrix, only: csr_matrix_t
+  use index_map, only: index_map_t
   use hypre_c, only: HYPRE_PARCSR, HYPRE_ClearAllErrors, HYPRE_GetError, HYPRE_DescribeError, &
     HYPRE_IJMatrixCreate, HYPRE_IJMatrixDestroy, HYPRE_IJMatrixSetObjectType, &
     HYPRE_IJMatrixSetDiagOffdSizes, HYPRE_IJMatrixInitialize, HYPRE_IJMatrixSetValues, &
@@ -29,7 +35,42 @@ module hypre_ij
   implicit none
   private
 
-  public :: hypre_ij_t, hypre_error_text, hypre_check
+  public :: hypre_ij_t, ij_rows_t, hypre_error_text, hypre_check
+
+  !> A square matrix given row by row: row_map holds its owned rows (its
+  !> columns are split among ranks alike), row(i) makes owned row i.
+  type, abstract :: ij_rows_t
+    type(index_map_t), pointer :: row_map => null()
+  contains
+    procedure(max_row_iface), deferred :: max_row
+    procedure(row_iface), deferred :: row
+  end type ij_rows_t
+
+  abstract interface
+    !> An upper bound of the entries of an owned row.
+    integer(ip) function max_row_iface(self)
+      import :: ij_rows_t, ip
+      class(ij_rows_t), intent(in) :: self
+    end function max_row_iface
+    !> Owned row i: n entries, global column ids gcol(1:n) (1-based, each
+    !> once) and values val(1:n); gcol and val hold max_row() entries.
+    subroutine row_iface(self, i, gcol, val, n)
+      import :: ij_rows_t, ip, gp, rp
+      class(ij_rows_t), intent(in) :: self
+      integer(ip), intent(in) :: i
+      integer(gp), intent(inout) :: gcol(:)
+      real(rp), intent(inout) :: val(:)
+      integer(ip), intent(out) :: n
+    end subroutine row_iface
+  end interface
+
+  !> A csr_matrix_t as an ij_rows_t.
+  type, extends(ij_rows_t) :: csr_rows_t
+    type(csr_matrix_t), pointer :: a => null()
+  contains
+    procedure :: max_row => csr_max_row
+    procedure :: row => csr_row
+  end type csr_rows_t
 
   !> hypre copy of one square distributed matrix, with work vectors b and x.
   type :: hypre_ij_t
@@ -51,8 +92,10 @@ module hypre_ij
     integer(ip) :: block_entries = 2**18
   contains
     procedure :: init
+    procedure :: init_rows
     procedure :: is_ready
     procedure :: update_values
+    procedure :: rebuild_rows
     procedure :: set_rhs
     procedure :: zero_x
     procedure :: get_x
@@ -70,10 +113,8 @@ contains
   !> beyond HYPRE_BigInt, or a hypre failure.
   subroutine init(self, a, status)
     class(hypre_ij_t), intent(inout) :: self
-    type(csr_matrix_t), intent(in) :: a
+    type(csr_matrix_t), intent(in), target :: a
     type(error_status_t), intent(inout) :: status
-    integer(hypre_int) :: ierr
-    integer(ip) :: i
     logical :: bad
     character(len=msg_len) :: msg
 
@@ -84,15 +125,6 @@ contains
       return
     end if
     self%comm = a%row_map%comm
-
-    ! global ids must fit HYPRE_BigInt once shifted to 0-based (same on every rank)
-    if (a%row_map%n_global - 1 > int(huge(0_hypre_bigint), gp)) then
-      write(msg, '(a,i0,a,i0,a)') 'hypre_ij%init: ', a%row_map%n_global, &
-        ' global rows do not fit hypre''s HYPRE_BigInt (at most ', &
-        int(huge(0_hypre_bigint), gp) + 1, '); hypre would need --enable-bigint'
-      call status%set(msg)
-      return
-    end if
     bad = a%col_map%n_global /= a%row_map%n_global .or. a%col_map%first /= a%row_map%first &
           .or. a%col_map%n_owned /= a%row_map%n_owned .or. a%n_rows /= a%row_map%n_owned
     if (self%comm%any_true(bad)) then
@@ -107,25 +139,56 @@ contains
       return
     end if
 
-    self%n_rows = a%n_rows
-    self%nnz = a%nnz()
-    self%ilower = int(a%row_map%first - 1, hypre_bigint)
-    self%iupper = int(a%row_map%first - 1 + a%n_rows - 1, hypre_bigint)
+    block
+      type(csr_rows_t) :: src
+      src%row_map => a%row_map
+      src%a => a
+      call self%init_rows(src, status)
+    end block
+    if (status%ok()) self%pattern_key = pattern_of(a)
+  end subroutine init
+
+  !> As init, for a matrix given row by row. Collective over the source's
+  !> communicator; status reports global ids beyond HYPRE_BigInt or a hypre
+  !> failure, on every rank alike.
+  subroutine init_rows(self, src, status)
+    class(hypre_ij_t), intent(inout) :: self
+    class(ij_rows_t), intent(in) :: src
+    type(error_status_t), intent(inout) :: status
+    integer(hypre_int) :: ierr
+    integer(ip) :: i
+    character(len=msg_len) :: msg
+
+    call self%free()
+    if (.not. associated(src%row_map)) then
+      call status%set('hypre_ij%init: the matrix has no row map')
+      return
+    end if
+    self%comm = src%row_map%comm
+    ! global ids must fit HYPRE_BigInt once shifted to 0-based (same on every rank)
+    if (src%row_map%n_global - 1 > int(huge(0_hypre_bigint), gp)) then
+      write(msg, '(a,i0,a,i0,a)') 'hypre_ij%init: ', src%row_map%n_global, &
+        ' global rows do not fit hypre''s HYPRE_BigInt (at most ', &
+        int(huge(0_hypre_bigint), gp) + 1, '); hypre would need --enable-bigint'
+      call status%set(msg)
+      return
+    end if
+    self%n_rows = src%row_map%n_owned
+    self%ilower = int(src%row_map%first - 1, hypre_bigint)
+    self%iupper = int(src%row_map%first - 1 + self%n_rows - 1, hypre_bigint)
     allocate(self%rows(self%n_rows), self%ncols(self%n_rows))
     do i = 1, self%n_rows
       self%rows(i) = self%ilower + int(i - 1, hypre_bigint)
-      self%ncols(i) = int(a%row_ptr(i+1) - a%row_ptr(i), hypre_int)
     end do
-    self%pattern_key = pattern_of(a)
 
     ierr = HYPRE_ClearAllErrors()
-    call build_matrix(self, a)
+    call build_matrix(self, src)
     call create_vector(self, self%ij_b, self%par_b)
     call create_vector(self, self%ij_x, self%par_x)
     ! hypre's error flag is global and sticky: one look covers the whole sequence
     call hypre_check(self%comm, HYPRE_GetError(), 'hypre_ij%init: building the IJ matrix and vectors', &
                      status)
-  end subroutine init
+  end subroutine init_rows
 
   !> One IJ vector over the owned rows, assembled with zeros.
   subroutine create_vector(self, ij, par)
@@ -166,10 +229,10 @@ contains
   !> every rank alike) or a hypre failure.
   subroutine update_values(self, a, status)
     class(hypre_ij_t), intent(inout) :: self
-    type(csr_matrix_t), intent(in) :: a
+    type(csr_matrix_t), intent(in), target :: a
     type(error_status_t), intent(inout) :: status
-    integer(hypre_int) :: ierr
     integer(ip) :: i
+    integer(gp) :: key
     logical :: bad
 
     if (.not. self%is_ready()) then
@@ -184,13 +247,44 @@ contains
         if (a%row_ptr(i+1) - a%row_ptr(i) /= self%ncols(i)) bad = .true.
       end do
     end if
-    if (.not. bad) bad = pattern_of(a) /= self%pattern_key
+    key = -1
+    if (.not. bad) key = pattern_of(a)
+    if (.not. bad) bad = key /= self%pattern_key
     if (self%comm%any_true(bad)) then
       call status%set('hypre_ij%update_values: the matrix pattern differs from the one given '// &
                       'to init(); call init() again')
       return
     end if
 
+    block
+      type(csr_rows_t) :: src
+      src%row_map => a%row_map
+      src%a => a
+      call self%rebuild_rows(src, status)
+    end block
+    if (status%ok()) self%pattern_key = key
+  end subroutine update_values
+
+  !> New values, and maybe a new pattern, of the matrix over the same owned
+  !> rows, row by row, in a new IJ matrix (par_a changes; the vectors stay).
+  !> Collective; status reports other owned rows or a hypre failure.
+  subroutine rebuild_rows(self, src, status)
+    class(hypre_ij_t), intent(inout) :: self
+    class(ij_rows_t), intent(in) :: src
+    type(error_status_t), intent(inout) :: status
+    integer(hypre_int) :: ierr
+    logical :: bad
+    if (.not. self%is_ready()) then
+      call status%set('hypre_ij%rebuild_rows: init() was not called')
+      return
+    end if
+    bad = .not. associated(src%row_map)
+    if (.not. bad) bad = src%row_map%n_owned /= self%n_rows .or. &
+                         src%row_map%first - 1 /= int(self%ilower, gp)
+    if (self%comm%any_true(bad)) then
+      call status%set('hypre_ij%rebuild_rows: the matrix owns other rows than the one given to init()')
+      return
+    end if
     ierr = HYPRE_ClearAllErrors()
     ! a new IJ matrix rather than new values into the assembled one: hypre
     ! looks every value's column up by a linear search of its row there,
@@ -200,30 +294,37 @@ contains
     ierr = HYPRE_IJMatrixDestroy(self%ij_a)
     self%ij_a = c_null_ptr
     self%par_a = c_null_ptr
-    call build_matrix(self, a)
+    self%pattern_key = 0
+    call build_matrix(self, src)
     call hypre_check(self%comm, HYPRE_GetError(), 'hypre_ij%update_values', status)
-  end subroutine update_values
+  end subroutine rebuild_rows
 
-  !> The IJ matrix of a (rows and ncols set), assembled: sized row by row
-  !> into its diagonal and off-diagonal blocks, so that hypre allocates them
-  !> once, and given its values a block of rows at a time with their global
-  !> column ids made for that block. Local but for hypre's collective
-  !> assembly.
-  subroutine build_matrix(self, a)
+  !> The IJ matrix of src (rows set; ncols and nnz set here), assembled:
+  !> sized row by row into its diagonal and off-diagonal blocks, so that
+  !> hypre allocates them once (a first pass over the rows), then given its
+  !> values a block of rows at a time (a second pass). Local but for
+  !> hypre's collective assembly.
+  subroutine build_matrix(self, src)
     type(hypre_ij_t), intent(inout) :: self
-    type(csr_matrix_t), intent(in) :: a
+    class(ij_rows_t), intent(in) :: src
     integer(hypre_int), allocatable :: diag_sizes(:), offd_sizes(:)
     integer(hypre_bigint), allocatable :: gcol(:)
-    integer(hypre_bigint) :: g
+    real(rp), allocatable :: val(:), rv(:)
+    integer(gp), allocatable :: rg(:)
+    integer(gp) :: g0, g1
     integer(hypre_int) :: ierr
-    integer(ip) :: i, k, i0, i1, k0
+    integer(ip) :: i, i0, n, m, mx
+    mx = max(src%max_row(), 1)
+    allocate(rg(mx), rv(mx))
     allocate(diag_sizes(self%n_rows), offd_sizes(self%n_rows))
+    g0 = int(self%ilower, gp) + 1
+    g1 = int(self%iupper, gp) + 1
+    self%nnz = 0
     do i = 1, self%n_rows
-      diag_sizes(i) = 0
-      do k = a%row_ptr(i), a%row_ptr(i+1) - 1
-        g = int(a%col_map%global_id(a%col(k)) - 1, hypre_bigint)
-        if (g >= self%ilower .and. g <= self%iupper) diag_sizes(i) = diag_sizes(i) + 1
-      end do
+      call src%row(i, rg, rv, n)
+      self%ncols(i) = int(n, hypre_int)
+      self%nnz = self%nnz + n
+      diag_sizes(i) = int(count(rg(1:n) >= g0 .and. rg(1:n) <= g1), hypre_int)
       offd_sizes(i) = self%ncols(i) - diag_sizes(i)
     end do
     ierr = HYPRE_IJMatrixCreate(self%comm%c_handle(), self%ilower, self%iupper, &
@@ -232,25 +333,46 @@ contains
     if (self%n_rows > 0) ierr = HYPRE_IJMatrixSetDiagOffdSizes(self%ij_a, diag_sizes, offd_sizes)
     deallocate(diag_sizes, offd_sizes)
     ierr = HYPRE_IJMatrixInitialize(self%ij_a)
-    allocate(gcol(min(self%nnz, self%block_entries) + maxval([0_hypre_int, self%ncols])))
+    allocate(gcol(min(self%nnz, self%block_entries) + mx), val(min(self%nnz, self%block_entries) + mx))
     i0 = 1
-    do while (i0 <= self%n_rows)
-      ! rows i0..i1: as many as fill a block
-      i1 = i0
-      do while (i1 < self%n_rows .and. a%row_ptr(i1+1) - a%row_ptr(i0) < self%block_entries)
-        i1 = i1 + 1
-      end do
-      k0 = a%row_ptr(i0)
-      do k = k0, a%row_ptr(i1+1) - 1
-        gcol(k - k0 + 1) = int(a%col_map%global_id(a%col(k)) - 1, hypre_bigint)
-      end do
-      ierr = HYPRE_IJMatrixSetValues(self%ij_a, int(i1 - i0 + 1, hypre_int), self%ncols(i0:i1), &
-                                     self%rows(i0:i1), gcol, a%val(k0:a%row_ptr(i1+1) - 1))
-      i0 = i1 + 1
+    m = 0
+    do i = 1, self%n_rows
+      ! rows i0..i: as many as fill a block
+      call src%row(i, rg, rv, n)
+      gcol(m + 1:m + n) = int(rg(1:n) - 1, hypre_bigint)
+      val(m + 1:m + n) = rv(1:n)
+      m = m + n
+      if (m < self%block_entries .and. i < self%n_rows) cycle
+      ierr = HYPRE_IJMatrixSetValues(self%ij_a, int(i - i0 + 1, hypre_int), self%ncols(i0:i), &
+                                     self%rows(i0:i), gcol, val)
+      i0 = i + 1
+      m = 0
     end do
     ierr = HYPRE_IJMatrixAssemble(self%ij_a)
     ierr = HYPRE_IJMatrixGetObject(self%ij_a, self%par_a)
   end subroutine build_matrix
+
+  integer(ip) function csr_max_row(self)
+    class(csr_rows_t), intent(in) :: self
+    csr_max_row = 0
+    if (self%a%n_rows > 0) csr_max_row = maxval(self%a%row_ptr(2:self%a%n_rows + 1) - &
+                                                self%a%row_ptr(1:self%a%n_rows))
+  end function csr_max_row
+
+  subroutine csr_row(self, i, gcol, val, n)
+    class(csr_rows_t), intent(in) :: self
+    integer(ip), intent(in) :: i
+    integer(gp), intent(inout) :: gcol(:)
+    real(rp), intent(inout) :: val(:)
+    integer(ip), intent(out) :: n
+    integer(ip) :: k, k0
+    k0 = self%a%row_ptr(i)
+    n = self%a%row_ptr(i + 1) - k0
+    do k = 1, n
+      gcol(k) = self%a%col_map%global_id(self%a%col(k0 + k - 1))
+    end do
+    val(1:n) = self%a%val(k0:k0 + n - 1)
+  end subroutine csr_row
 
   !> A fingerprint of a's pattern: its rows' global column ids in CSR order
   !> hashed modulo the prime 2^31 - 1 (a changed pattern with the same

@@ -3,7 +3,9 @@
 !>
 !> setup() copies the matrix into hypre (hypre_ij_t) and builds the AMG
 !> hierarchy with the settings of an amg_params_t; update() takes new values
-!> in the same pattern and rebuilds the hierarchy. For systems
+!> in the same pattern and rebuilds the hierarchy; setup_rows() and
+!> update_rows() take a matrix given row by row (hypre_ij's ij_rows_t), never
+!> stored whole on our side. For systems
 !> (num_functions > 1) every owned row gets a function id: by default
 !> mod(global row - 1, num_functions), i.e. interleaved unknowns (our
 !> displacement dofs 3*(node-1)+c), or the ids given by the caller. hypre
@@ -18,7 +20,8 @@ module boomeramg_precon
   use csr_matrix, only: csr_matrix_t
   use precon, only: precon_t
   use amg_params, only: amg_params_t, amg_line_len
-  use hypre_ij, only: hypre_ij_t, hypre_check
+  use hypre_ij, only: hypre_ij_t, ij_rows_t, hypre_check
+  use index_map, only: index_map_t
   use hypre_c, only: HYPRE_MEMORY_HOST, HYPRE_BoomerAMGSetRelaxOrder, HYPRE_ClearAllErrors, HYPRE_GetError, hypre_CAlloc, &
     HYPRE_BoomerAMGCreate, HYPRE_BoomerAMGDestroy, HYPRE_BoomerAMGSetup, HYPRE_BoomerAMGSolve, &
     HYPRE_BoomerAMGGetGridHierarchy, HYPRE_BoomerAMGSetTol, HYPRE_BoomerAMGSetMaxIter, &
@@ -55,8 +58,9 @@ module boomeramg_precon
     real(rp) :: grid_complexity = 0.0_rp           !< sum of level rows / fine rows
   contains
     procedure :: setup
-    procedure :: setup_taking
+    procedure :: setup_rows
     procedure :: update
+    procedure :: update_rows
     procedure :: matrix_product
     procedure :: apply => amg_apply
     procedure :: name => amg_name
@@ -89,26 +93,6 @@ contains
     self%setup_time = wall_time() - t0
   end subroutine setup
 
-  !> As setup, but hypre's copy takes the place of a's values: they are
-  !> deallocated as soon as hypre holds them, before the hierarchy is
-  !> built, so that the matrix is never stored twice beside its hierarchy.
-  !> a keeps its pattern; products with the matrix are then
-  !> matrix_product's, and update() needs a's values back. Collective.
-  subroutine setup_taking(self, a, params, status, modes)
-    class(boomeramg_precon_t), intent(inout), target :: self
-    type(csr_matrix_t), intent(inout) :: a
-    type(amg_params_t), intent(in) :: params
-    type(error_status_t), intent(inout) :: status
-    real(rp), intent(in), optional :: modes(:,:)   !< as for setup
-    real(rp) :: t0
-    t0 = wall_time()
-    call copy_in(self, a, params, status, modes=modes)
-    if (allocated(a%val)) deallocate(a%val)
-    if (.not. status%ok()) return
-    call build_hierarchy(self, status)
-    self%setup_time = wall_time() - t0
-  end subroutine setup_taking
-
   !> setup's first part: the settings, the function ids and hypre's copy
   !> of a. Collective.
   subroutine copy_in(self, a, params, status, dof_func, modes)
@@ -118,49 +102,98 @@ contains
     type(error_status_t), intent(inout) :: status
     integer, intent(in), optional :: dof_func(:)
     real(rp), intent(in), optional :: modes(:,:)
-    call self%free()
-    call params%validate(status)
-    if (.not. status%ok()) return
     if (.not. associated(a%row_map)) then
+      call self%free()
       call status%set('boomeramg_precon%setup: the matrix has no pattern')
       return
     end if
-    self%comm = a%row_map%comm
+    call prepare(self, a%row_map, params, status, dof_func, modes)
+    if (status%ok()) call self%ij%init(a, status)
+  end subroutine copy_in
+
+  !> The settings and the function ids over the owned rows of row_map.
+  subroutine prepare(self, row_map, params, status, dof_func, modes)
+    class(boomeramg_precon_t), intent(inout), target :: self
+    type(index_map_t), intent(in) :: row_map
+    type(amg_params_t), intent(in) :: params
+    type(error_status_t), intent(inout) :: status
+    integer, intent(in), optional :: dof_func(:)
+    real(rp), intent(in), optional :: modes(:,:)
+    call self%free()
+    call params%validate(status)
+    if (.not. status%ok()) return
+    self%comm = row_map%comm
     self%params = params
-    call make_dof_func(self, a, status, dof_func)
+    call make_dof_func(self, row_map, status, dof_func)
     if (.not. status%ok()) return
     if (present(modes) .and. params%interp_vec_variant > 0) self%modes = modes
-    call self%ij%init(a, status)
-  end subroutine copy_in
+  end subroutine prepare
+
+  !> As setup, for a matrix given row by row (hypre_ij's ij_rows_t: e.g. a
+  !> sum of matrices never stored whole here). Collective.
+  subroutine setup_rows(self, src, params, status, modes)
+    class(boomeramg_precon_t), intent(inout), target :: self
+    class(ij_rows_t), intent(in) :: src
+    type(amg_params_t), intent(in) :: params
+    type(error_status_t), intent(inout) :: status
+    real(rp), intent(in), optional :: modes(:,:)   !< as for setup
+    real(rp) :: t0
+    t0 = wall_time()
+    if (.not. associated(src%row_map)) then
+      call self%free()
+      call status%set('boomeramg_precon%setup_rows: the matrix has no row map')
+      return
+    end if
+    call prepare(self, src%row_map, params, status, modes=modes)
+    if (status%ok()) call self%ij%init_rows(src, status)
+    if (.not. status%ok()) return
+    call build_hierarchy(self, status)
+    self%setup_time = wall_time() - t0
+  end subroutine setup_rows
+
+  !> As update, for a matrix given row by row over the same owned rows (its
+  !> pattern may differ). Collective.
+  subroutine update_rows(self, src, status)
+    class(boomeramg_precon_t), intent(inout), target :: self
+    class(ij_rows_t), intent(in) :: src
+    type(error_status_t), intent(inout) :: status
+    call renew(self, 'update_rows', status, src=src)
+  end subroutine update_rows
 
   !> New values of the matrix given to setup() (same pattern): copy them and
   !> rebuild the hierarchy with the same settings. Collective; setup_time is
-  !> the time of this update. taking: as for setup_taking, a's values are
-  !> deallocated once hypre holds them.
-  subroutine update(self, a, status, taking)
+  !> the time of this update.
+  subroutine update(self, a, status)
     class(boomeramg_precon_t), intent(inout), target :: self
-    type(csr_matrix_t), intent(inout) :: a
+    type(csr_matrix_t), intent(in) :: a
     type(error_status_t), intent(inout) :: status
-    logical, intent(in), optional :: taking
+    call renew(self, 'update', status, a=a)
+  end subroutine update
+
+  !> update (a) or update_rows (src): the old hierarchy goes first (its
+  !> finest level is the IJ matrix that is replaced), then hypre's copy
+  !> anew and the hierarchy on it. what: the caller's name, for messages.
+  subroutine renew(self, what, status, a, src)
+    class(boomeramg_precon_t), intent(inout), target :: self
+    character(len=*), intent(in) :: what
+    type(error_status_t), intent(inout) :: status
+    type(csr_matrix_t), intent(in), optional :: a
+    class(ij_rows_t), intent(in), optional :: src
     integer(hypre_int) :: ierr
     real(rp) :: t0
     t0 = wall_time()
     if (.not. self%ij%is_ready()) then
-      call status%set('boomeramg_precon%update: setup() was not called')
+      call status%set('boomeramg_precon%'//what//': setup() was not called')
       return
     end if
-    ! the old hierarchy goes first: its finest level is the IJ matrix that
-    ! update_values replaces
     if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
     self%solver = c_null_ptr
-    call self%ij%update_values(a, status)
-    if (present(taking)) then
-      if (taking .and. allocated(a%val)) deallocate(a%val)
-    end if
+    if (present(a)) call self%ij%update_values(a, status)
+    if (present(src)) call self%ij%rebuild_rows(src, status)
     if (.not. status%ok()) return
     call build_hierarchy(self, status)
     self%setup_time = wall_time() - t0
-  end subroutine update
+  end subroutine renew
 
   !> y = A x with hypre's copy of A (owned entries). Collective.
   subroutine matrix_product(self, x, y)
@@ -172,9 +205,9 @@ contains
   end subroutine matrix_product
 
   !> Function id of every owned row (num_functions > 1), checked.
-  subroutine make_dof_func(self, a, status, dof_func)
+  subroutine make_dof_func(self, row_map, status, dof_func)
     type(boomeramg_precon_t), intent(inout) :: self
-    type(csr_matrix_t), intent(in) :: a
+    type(index_map_t), intent(in) :: row_map
     type(error_status_t), intent(inout) :: status
     integer, intent(in), optional :: dof_func(:)
     integer :: nf, i
@@ -184,15 +217,15 @@ contains
 
     nf = self%params%num_functions
     if (nf == 1) return
-    first = a%row_map%first
-    allocate(self%dof_func(a%n_rows))
+    first = row_map%first
+    allocate(self%dof_func(row_map%n_owned))
     bad = .false.
     msg = ''
     if (present(dof_func)) then
-      if (size(dof_func) /= a%n_rows) then
+      if (size(dof_func) /= row_map%n_owned) then
         bad = .true.
         write(msg, '(a,i0,a,i0,a)') 'boomeramg_precon%setup: dof_func has ', size(dof_func), &
-          ' entries for ', a%n_rows, ' owned rows'
+          ' entries for ', row_map%n_owned, ' owned rows'
       else if (any(dof_func < 0 .or. dof_func >= nf)) then
         bad = .true.
         write(msg, '(a,i0)') 'boomeramg_precon%setup: dof_func entries must lie in 0..', nf - 1
@@ -200,15 +233,15 @@ contains
         self%dof_func = int(dof_func, hypre_int)
       end if
     else
-      do i = 1, a%n_rows
+      do i = 1, row_map%n_owned
         self%dof_func(i) = int(mod(first + i - 2, int(nf, gp)), hypre_int)
       end do
     end if
     if (.not. bad .and. self%params%nodal > 0) then
       ! hypre's nodal coarsening takes blocks of nf consecutive rows as nodes
-      bad = mod(first - 1, int(nf, gp)) /= 0 .or. mod(a%n_rows, nf) /= 0
+      bad = mod(first - 1, int(nf, gp)) /= 0 .or. mod(row_map%n_owned, nf) /= 0
       if (.not. bad) then
-        do i = 1, a%n_rows
+        do i = 1, row_map%n_owned
           if (self%dof_func(i) /= mod(i - 1, nf)) bad = .true.
         end do
       end if

@@ -16,6 +16,7 @@ module inner_cg_precon
   use kinds, only: rp, name_len
   use dist_vector, only: pdot
   use error_status, only: error_status_t
+  use parallel_comm, only: parallel_comm_t
   use csr_matrix, only: csr_matrix_t
   use precon, only: precon_t
   use boomeramg_precon, only: boomeramg_precon_t
@@ -27,13 +28,14 @@ module inner_cg_precon
   public :: inner_cg_precon_t
 
   type, extends(precon_t) :: inner_cg_precon_t
-    type(csr_matrix_t), pointer :: a => null()    !< the block (must outlive this)
+    type(csr_matrix_t), pointer :: a => null()    !< the block (must outlive this); null: products_by_inner
+    type(parallel_comm_t) :: comm                 !< the block's communicator
     class(precon_t), allocatable :: inner         !< preconditioner of the inner CG
     type(cg_t) :: solver
     integer :: iterations = 0                     !< inner CG iterations, summed over applications
     integer :: steps = 0                          !< > 0: that many PCG steps, no tolerance
-    !> the steps' products with A by the inner BoomerAMG's copy of A (a then
-    !> needs its pattern only: setup_taking)
+    !> the steps' products with A by the inner BoomerAMG's copy of A (a may
+    !> then be absent: boomeramg_precon's setup_rows)
     logical :: products_by_inner = .false.
     real(rp), allocatable :: res(:), w(:), p(:), q(:)   !< work vectors of the steps
     integer :: applications = 0
@@ -56,25 +58,28 @@ contains
     real(rp), intent(in) :: rtol
     integer, intent(in) :: max_iter
     type(error_status_t), intent(inout) :: status
-    call attach(self, a, inner)
+    call attach(self, inner, a)
     call self%solver%init(a%row_map%comm, rtol, 0.0_rp, max_iter, status)
   end subroutine inner_cg_init
 
   !> steps (>= 1) PCG steps with a (pointed to) and inner (moved in, set up
   !> on a) from zero at every application. by_inner: the products with A
-  !> are the inner BoomerAMG's (its copy of a; a BoomerAMG inner only).
-  subroutine inner_cg_init_steps(self, a, inner, steps, by_inner)
+  !> are the inner BoomerAMG's (its copy of a; a BoomerAMG inner only); a
+  !> may then be absent (the matrix was given to the BoomerAMG row by row).
+  subroutine inner_cg_init_steps(self, inner, steps, a, by_inner)
     class(inner_cg_precon_t), intent(inout) :: self
-    type(csr_matrix_t), target, intent(in) :: a
     class(precon_t), allocatable, intent(inout) :: inner
     integer, intent(in) :: steps
+    type(csr_matrix_t), target, intent(in), optional :: a
     logical, intent(in), optional :: by_inner
-    call attach(self, a, inner)
+    call attach(self, inner, a)
     self%steps = max(steps, 1)
     if (present(by_inner)) self%products_by_inner = by_inner
-    if (self%products_by_inner) then
+    if (self%products_by_inner .or. .not. present(a)) then
       select type (m => self%inner)
       type is (boomeramg_precon_t)
+        self%products_by_inner = .true.
+        self%comm = m%comm
       class default
         error stop 'inner_cg_precon%init_steps: products by the inner preconditioner need a BoomerAMG'
       end select
@@ -83,12 +88,15 @@ contains
   end subroutine inner_cg_init_steps
 
   !> A fresh start on a (pointed to) with inner (moved in).
-  subroutine attach(self, a, inner)
+  subroutine attach(self, inner, a)
     class(inner_cg_precon_t), intent(inout) :: self
-    type(csr_matrix_t), target, intent(in) :: a
     class(precon_t), allocatable, intent(inout) :: inner
+    type(csr_matrix_t), target, intent(in), optional :: a
     call self%free()
-    self%a => a
+    if (present(a)) then
+      self%a => a
+      self%comm = a%row_map%comm
+    end if
     call move_alloc(inner, self%inner)
     self%setup_time = self%inner%setup_time
   end subroutine attach
@@ -113,7 +121,7 @@ contains
     rz_old = 1.0_rp
     do k = 1, self%steps
       call self%inner%apply(res, w)
-      rz = pdot(self%a%row_map%comm, res, w)
+      rz = pdot(self%comm, res, w)
       if (.not. (rz > 0.0_rp)) then
         if (k == 1) z = w
         exit
@@ -124,7 +132,7 @@ contains
         p = w + (rz / rz_old) * p
       end if
       call product(self, p, q)
-      pq = pdot(self%a%row_map%comm, p, q)
+      pq = pdot(self%comm, p, q)
       if (.not. (pq > 0.0_rp)) then
         if (k == 1) z = w
         exit

@@ -68,15 +68,15 @@
 !> K does not change during a run: its AMG (classical) is made once; the
 !> Schur parts are rebuilt at every Newton iteration (kept while every
 !> element sticks, &contact reuse), because C2 and the (t,t) block follow
-!> the statuses. S* itself is then refreshed in place (reordered_schur):
-!> no copy of K is kept, and no second S* is formed; between set-ups its
-!> values live in its BoomerAMG's hypre copy only (setup_taking; the PCG
-!> steps of schur_solve = 'pcg' use that copy's product), here its pattern
-!> (HI24L medium, 2 ranks: the peak 1,206 -> 1,023 MB a rank). Its first build puts
-!> K's values on the union of K's and the product's patterns (union_to_csr)
-!> and adds the product there: on the nine fractures at 2 m cells (1 rank)
-!> the run's peak fell from 851 to 777 MB, the build's rise of it from 492
-!> to 255 MB, where global copies of K and of the sum were made before.
+!> the statuses. S* = K + C1 H~^-1 C2 (reordered_schur) is given to its
+!> BoomerAMG row by row, K's rows merged with the product's as hypre asks
+!> for them (sum_rows), and never stored here: no copy of K, no S*, no S*
+!> pattern between set-ups; the PCG steps of schur_solve = 'pcg' use the
+!> product of hypre's copy. HI24L medium, 2 ranks: the peak 1,206 -> 1,023
+!> MB a rank when S* kept its pattern only, and contact n = 40 405 -> 341
+!> MB with S* given by rows. (schur_solve = 'inner_cg', whose CG needs S*
+!> here, keeps it: assembled_schur refreshes it in place, its first build
+!> on the union of K's and the product's patterns.)
 module contact_precon
   use kinds, only: rp, ip, gp, name_len
   use parallel_comm, only: wall_time
@@ -92,6 +92,7 @@ module contact_precon
   use negated_precon, only: negated_precon_t
   use inner_cg_precon, only: inner_cg_precon_t
   use boomeramg_precon, only: boomeramg_precon_t
+  use sum_rows, only: sum_rows_t
   use block_precon, only: block_precon_t
   use subspace_precon, only: subspace_precon_t
   use dist_mesh, only: dist_mesh_t
@@ -123,10 +124,8 @@ module contact_precon
 
   type :: contact_precon_t
     type(block_precon_t) :: bp
-    !> S* (reordered, augmented) or -S (classical). S*'s values live in its
-    !> BoomerAMG's copy only (setup_taking), between set-ups, unless
-    !> schur_solve = 'inner_cg' needs them: the pattern stays, for the next
-    !> refresh in place
+    !> -S (classical), or S* for schur_solve = 'inner_cg' (else S* lives in
+    !> its BoomerAMG's copy only: reordered_schur)
     type(csr_matrix_t) :: s
     real(rp), allocatable :: s_diag(:)           !< flow, pressure_block = 'schur': S*'s diagonal (owned rows)
     type(global_csr_t) :: gc1                    !< C1 (classical: diag(K)^-1 C1)
@@ -298,13 +297,12 @@ contains
   end subroutine classical_schur
 
   !> S_1 = -H~ and S_2 = BoomerAMG(K + C1 H~^-1 C2).
-  !> While S*'s pattern holds the product's (it does: C2's pattern is fixed,
-  !> the statuses change its values), the new values go into the S* already
-  !> built, K's and the product's added in place, and its plain BoomerAMG
-  !> hierarchy is rebuilt on them: no second S* exists at any time. Only a
-  !> first build (or a new pattern) forms S* as a sum of distributed
-  !> matrices, after the old S* and its hierarchy are freed: the set-up's
-  !> peak memory is then one S* with its sum's operands, not two S*.
+  !> S* is given to its BoomerAMG row by row, each row K's merged with the
+  !> product's (and S**'s correction) when hypre asks for it (sum_rows): no
+  !> S* is stored here, and a refresh builds hypre's copy and hierarchy anew
+  !> on the new values, after the old hierarchy is freed; the PCG steps of
+  !> schur_solve = 'pcg' take hypre's products. Only schur_solve =
+  !> 'inner_cg' keeps S* here for its CG's products (assembled_schur).
   subroutine reordered_schur(self, phys, mesh, ccfg, amg, h, status)
     type(contact_precon_t), intent(inout), target :: self
     type(contact_view_t), intent(in) :: phys
@@ -313,17 +311,14 @@ contains
     type(amg_params_t), intent(in) :: amg
     real(rp), allocatable, intent(out) :: h(:)   !< H~ (owned t rows)
     type(error_status_t), intent(inout) :: status
-    type(global_csr_t) :: gc2, prod, corr
-    logical :: fits
+    type(global_csr_t), target :: gc2, prod, corr
+    type(sum_rows_t) :: src
     class(precon_t), allocatable :: p, w
-    type(boomeramg_precon_t), pointer :: samg
+    type(boomeramg_precon_t), allocatable :: samg
+    type(boomeramg_precon_t), pointer :: old
     type(precon_params_t) :: params
-    !> tolerance and cap of the inner CG of schur_solve = 'inner_cg'
-    real(rp), parameter :: inner_rtol = 1.0e-10_rp
-    integer, parameter :: inner_max_iter = 500
     real(rp) :: t0
     integer(gp) :: m0
-    logical :: taking
     t0 = wall_time()
     m0 = peak_resident_bytes()
     allocate(h(phys%ic%t%n_owned()))
@@ -335,7 +330,90 @@ contains
     call gc2%free()
     ! S** (pressure_block = 'eliminated') takes away Q1 D_p^-1 A_pu
     if (self%p_eliminated) call pressure_correction(self, phys, corr)
-    taking = ccfg%schur_solve /= 'inner_cg'
+    if (ccfg%schur_solve == 'inner_cg') then
+      call assembled_schur(self, phys, mesh, amg, prod, corr, t0, m0, status)
+      return
+    end if
+    if (self%p_eliminated) then
+      call src%init(phys%sys%a(phys%bu, phys%bu), prod, 1.0_rp, corr, -1.0_rp)
+    else
+      call src%init(phys%sys%a(phys%bu, phys%bu), prod, 1.0_rp)
+    end if
+    if (phys%flow .and. .not. self%p_eliminated) then
+      if (allocated(self%s_diag)) deallocate(self%s_diag)
+      allocate(self%s_diag(phys%sys%a(phys%bu, phys%bu)%n_rows))
+      call src%diagonal(self%s_diag)
+    end if
+    self%t_smat = wall_time() - t0
+    self%m_smat = peak_resident_bytes() - m0
+    m0 = peak_resident_bytes()
+    old => null()
+    if (allocated(self%bp%s(phys%bu)%p)) old => schur_amg(self%bp%s(phys%bu)%p)
+    if (associated(old)) then
+      ! a refresh: the preconditioner (and the PCG steps around it) stay
+      call old%update_rows(src, status)
+      call prod%free()
+      call corr%free()
+      if (.not. status%ok()) return
+      self%t_sprec = old%setup_time
+      self%m_sprec = peak_resident_bytes() - m0
+      self%bp%s(phys%bu)%p%setup_time = old%setup_time
+      self%nnz_schur = mesh%comm%sum(int(old%ij%nnz, gp))
+      return
+    end if
+    call discard(self%bp%s(phys%bu)%p)
+    params%amg = amg
+    ! S* has K's near-null space: the rigid-body modes, where asked (&amg)
+    if (amg%interp_vec_variant > 0) params%modes = phys%mc%mech%rigid_body_modes(mesh)
+    allocate(samg)
+    if (allocated(params%modes)) then
+      call samg%setup_rows(src, params%amg, status, params%modes)
+    else
+      call samg%setup_rows(src, params%amg, status)
+    end if
+    call prod%free()
+    call corr%free()
+    if (.not. status%ok()) return
+    samg%setup_rise = max(peak_resident_bytes() - m0, 0_gp)
+    self%nnz_schur = mesh%comm%sum(int(samg%ij%nnz, gp))
+    self%t_sprec = samg%setup_time
+    self%m_sprec = samg%setup_rise
+    self%sprec_name = samg%name()
+    call move_alloc(samg, p)
+    if (ccfg%schur_solve == 'pcg') then
+      allocate(inner_cg_precon_t :: w)
+      select type (w)
+      type is (inner_cg_precon_t)
+        call w%init_steps(p, ccfg%schur_its)
+      end select
+      call move_alloc(w, p)
+    end if
+    call replace(self%bp%s(phys%bu)%p, p)
+  end subroutine reordered_schur
+
+  !> reordered_schur for schur_solve = 'inner_cg', whose CG needs S*'s
+  !> values here: while S*'s pattern holds the product's, the new values go
+  !> into the S* already built, K's and the product's added in place, and
+  !> its BoomerAMG is rebuilt on them; a first build (or a new pattern) forms
+  !> S* as a sum of distributed matrices, after the old S* and its hierarchy
+  !> are freed. t0, m0: the set-up's start (time, peak memory).
+  subroutine assembled_schur(self, phys, mesh, amg, prod, corr, t0, m0, status)
+    type(contact_precon_t), intent(inout), target :: self
+    type(contact_view_t), intent(in) :: phys
+    type(dist_mesh_t), intent(in) :: mesh
+    type(amg_params_t), intent(in) :: amg
+    type(global_csr_t), intent(inout) :: prod, corr
+    real(rp), intent(in) :: t0
+    integer(gp), intent(in) :: m0
+    type(error_status_t), intent(inout) :: status
+    logical :: fits
+    class(precon_t), allocatable :: p, w
+    type(boomeramg_precon_t), pointer :: samg
+    type(precon_params_t) :: params
+    !> tolerance and cap of the inner CG
+    real(rp), parameter :: inner_rtol = 1.0e-10_rp
+    integer, parameter :: inner_max_iter = 500
+    integer(gp) :: m1
     if (allocated(self%bp%s(phys%bu)%p)) then
       samg => schur_amg(self%bp%s(phys%bu)%p)
       if (associated(samg)) then
@@ -345,17 +423,15 @@ contains
           call keep_diagonal(self, phys)
           self%t_smat = wall_time() - t0
           self%m_smat = peak_resident_bytes() - m0
-          m0 = peak_resident_bytes()
-          call samg%update(self%s, status, taking)
+          m1 = peak_resident_bytes()
+          call samg%update(self%s, status)
           self%t_sprec = samg%setup_time
-          self%m_sprec = peak_resident_bytes() - m0
+          self%m_sprec = peak_resident_bytes() - m1
           self%bp%s(phys%bu)%p%setup_time = samg%setup_time
           return
         end if
       end if
     end if
-    ! a new S*: the old one and its preconditioner go first; then K's
-    ! values on the union of the patterns, the product (and -corr) added
     call discard(self%bp%s(phys%bu)%p)
     call self%s%free()
     if (self%p_eliminated) then
@@ -370,55 +446,23 @@ contains
     call corr%free()
     self%nnz_schur = self%s%global_nnz()
     params%amg = amg
-    ! S* has K's near-null space: the rigid-body modes, where asked (&amg)
     if (amg%interp_vec_variant > 0) params%modes = phys%mc%mech%rigid_body_modes(mesh)
     call keep_diagonal(self, phys)
     self%t_smat = wall_time() - t0
     self%m_smat = peak_resident_bytes() - m0
-    if (taking) then
-      call setup_taking(self%s, params, p, status)
-    else
-      call make_and_setup('boomeramg', p, self%s, params, status)
-    end if
+    call make_and_setup('boomeramg', p, self%s, params, status)
     if (.not. status%ok()) return
     self%t_sprec = p%setup_time
     self%m_sprec = p%setup_rise
     self%sprec_name = p%name()
-    if (ccfg%schur_solve == 'inner_cg' .or. ccfg%schur_solve == 'pcg') then
-      allocate(inner_cg_precon_t :: w)
-      select type (w)
-      type is (inner_cg_precon_t)
-        if (ccfg%schur_solve == 'pcg') then
-          call w%init_steps(self%s, p, ccfg%schur_its, by_inner=taking)
-        else
-          call w%init(self%s, p, inner_rtol, inner_max_iter, status)
-        end if
-      end select
-      call move_alloc(w, p)
-    end if
+    allocate(inner_cg_precon_t :: w)
+    select type (w)
+    type is (inner_cg_precon_t)
+      call w%init(self%s, p, inner_rtol, inner_max_iter, status)
+    end select
+    call move_alloc(w, p)
     call replace(self%bp%s(phys%bu)%p, p)
-  end subroutine reordered_schur
-
-  !> p = BoomerAMG of S*, made with boomeramg_precon's setup_taking: S*'s
-  !> values go to hypre and are freed here before the hierarchy is built.
-  !> Times itself as make_and_setup does. Collective.
-  subroutine setup_taking(s, params, p, status)
-    type(csr_matrix_t), intent(inout) :: s
-    type(precon_params_t), intent(in) :: params
-    class(precon_t), allocatable, intent(inout) :: p
-    type(error_status_t), intent(inout) :: status
-    type(boomeramg_precon_t), allocatable :: amg
-    integer(gp) :: m0
-    m0 = peak_resident_bytes()
-    allocate(amg)
-    if (allocated(params%modes)) then
-      call amg%setup_taking(s, params%amg, status, params%modes)
-    else
-      call amg%setup_taking(s, params%amg, status)
-    end if
-    amg%setup_rise = max(peak_resident_bytes() - m0, 0_gp)
-    call move_alloc(amg, p)
-  end subroutine setup_taking
+  end subroutine assembled_schur
 
   !> S*'s diagonal, while its values are here, for pressure_schur (the
   !> fluid with pressure_block = 'schur').

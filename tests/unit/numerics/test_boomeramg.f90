@@ -16,6 +16,8 @@ program test_boomeramg
   use boomeramg_precon, only: boomeramg_precon_t
   use precon, only: precon_t
   use inner_cg_precon, only: inner_cg_precon_t
+  use global_csr, only: global_csr_t, union_to_csr, add_to_csr, add_csr_to_csr
+  use sum_rows, only: sum_rows_t
   use assertions, only: test_suite_t
   use fixture_matrices, only: build_laplacian
   implicit none
@@ -27,7 +29,7 @@ program test_boomeramg
   call suite%init('boomeramg', comm)
   call test_params(suite)
   call test_scalar(suite, comm)
-  call test_taking(suite, comm)
+  call test_rows(suite, comm)
   call test_systems(suite, comm)
   call test_dof_func(suite, comm)
   call suite%finish()
@@ -192,6 +194,8 @@ contains
     call amg%apply(x, z2)
     call suite%assert_close_array(z2 / maxval(abs(z1)), 0.5_rp * z1 / maxval(abs(z1)), 1.0e-10_rp, &
                                   'scalar: after update(2A) the V-cycle gives half of before')
+    call amg%update(a, st)
+    call suite%assert_true(st%ok(), 'scalar: a second update with the same pattern succeeds: '//trim(st%msg))
     call a%apply(x, y)
     call amg%ij%matvec(x, yh)
     call suite%assert_close_array(yh, y, 2.0e-12_rp, 'scalar: hypre matvec equals ours after update')
@@ -214,74 +218,114 @@ contains
     call a2%free()
   end subroutine test_scalar
 
-  !> setup_taking on a scalar Laplacian (27000 rows, given to hypre 997
-  !> entries at a time): a's values are gone, its pattern stays; hypre's
-  !> product is a's, the V-cycle the one of a plain setup; update(taking)
-  !> takes the new values too; PCG steps with the inner AMG's products give
-  !> those with a's.
-  subroutine test_taking(suite, comm)
+  !> setup_rows and update_rows on a sum given row by row (sum_rows: a
+  !> scalar Laplacian A plus alpha G, G the graph Laplacian of a matching of
+  !> row i with row i + n/2, whose couplings lie outside A's pattern and
+  !> mostly on another rank; 27000 rows, given to hypre 997 entries at a
+  !> time): hypre's product and V-cycle are those of the sum assembled
+  !> (union_to_csr), so is sum_rows' diagonal; update_rows takes new values;
+  !> PCG steps with the AMG's products (no matrix here) give those with the
+  !> assembled sum's.
+  subroutine test_rows(suite, comm)
     type(test_suite_t), intent(inout) :: suite
     type(parallel_comm_t), intent(in) :: comm
     type(index_map_t), target :: row_map, col_map
-    type(csr_matrix_t), target :: a, b
+    type(csr_matrix_t), target :: a, s
+    type(global_csr_t), target :: g
+    type(sum_rows_t) :: src
     type(boomeramg_precon_t) :: amg, plain
     class(precon_t), allocatable :: inner1, inner2
-    type(inner_cg_precon_t) :: cg_by_inner, cg_by_a
+    type(inner_cg_precon_t) :: cg_by_inner, cg_by_s
     type(amg_params_t) :: p
     type(error_status_t) :: st
-    real(rp), allocatable :: x(:), y(:), yh(:), z1(:), z2(:)
+    real(rp), allocatable :: x(:), y(:), yh(:), z1(:), z2(:), d(:), ds(:)
+    logical :: fits
 
     call build_laplacian(comm, 30, 1, [1.0_rp], row_map, col_map, a)
-    b = a
+    call matching_laplacian(row_map, g)
+    call union_to_csr(a, g, row_map, s)      ! A's values on the union of the patterns
+    call add_to_csr(2.0_rp, g, s, fits)
+    call suite%assert_true(fits, 'rows: the assembled sum A + 2 G')
+    call src%init(a, g, 2.0_rp)
     p%num_functions = 1
     amg%ij%block_entries = 997
-    call amg%setup_taking(a, p, st)
-    call suite%assert_true(st%ok(), 'taking: setup_taking succeeds: '//trim(st%msg))
+    call amg%setup_rows(src, p, st)
+    call suite%assert_true(st%ok(), 'rows: setup_rows succeeds: '//trim(st%msg))
     if (.not. st%ok()) return
-    call suite%assert_true(.not. allocated(a%val) .and. a%nnz() == b%nnz(), &
-                           'taking: the values are freed, the pattern stays')
-    call plain%setup(b, p, st)
-    allocate(x(b%n_rows), y(b%n_rows), yh(b%n_rows), z1(b%n_rows), z2(b%n_rows))
-    call fill_test_vector(b, x)
-    call b%apply(x, y)
+    call suite%assert_true(comm%sum(int(amg%ij%nnz, gp)) == s%global_nnz(), &
+                           'rows: hypre holds the non-zeros of the assembled sum')
+    call plain%setup(s, p, st)
+    allocate(x(s%n_rows), y(s%n_rows), yh(s%n_rows), z1(s%n_rows), z2(s%n_rows), d(s%n_rows), ds(s%n_rows))
+    call fill_test_vector(s, x)
+    call s%apply(x, y)
     call amg%matrix_product(x, yh)
-    call suite%assert_close_array(yh, y, 1.0e-12_rp, 'taking: matrix_product equals the product of a copy of a')
+    call suite%assert_close_array(yh, y, 1.0e-12_rp, 'rows: matrix_product equals the assembled sum''s')
     call amg%apply(x, z1)
     call plain%apply(x, z2)
-    call suite%assert_close_array(z1, z2, 1.0e-13_rp, 'taking: the V-cycle is the one of a plain setup')
+    call suite%assert_close_array(z1, z2, 1.0e-10_rp, 'rows: the V-cycle is the one of the assembled sum''s')
+    call src%diagonal(d)
+    call s%diagonal(ds)
+    call suite%assert_close_array(d, ds, 1.0e-14_rp, 'rows: sum_rows%diagonal is the assembled sum''s')
 
-    allocate(a%val(a%nnz()))
-    a%val = 3.0_rp * b%val
-    call amg%update(a, st, taking=.true.)
-    call suite%assert_true(st%ok() .and. .not. allocated(a%val), 'taking: update(taking) takes the new values')
+    ! new values: A + 5 G, against the assembled sum of the same
+    src%alpha_g = 5.0_rp
+    call amg%update_rows(src, st)
+    call suite%assert_true(st%ok(), 'rows: update_rows succeeds: '//trim(st%msg))
+    s%val = 0.0_rp
+    call add_csr_to_csr(1.0_rp, a, s, fits)
+    call add_to_csr(5.0_rp, g, s, fits)
+    call s%apply(x, y)
     call amg%matrix_product(x, yh)
-    call suite%assert_close_array(yh, 3.0_rp * y, 1.0e-12_rp, 'taking: matrix_product is 3A after the update')
+    call suite%assert_close_array(yh, y, 1.0e-12_rp, 'rows: matrix_product is A + 5 G after update_rows')
 
-    ! two PCG steps: products by the inner AMG against a's (both 3A)
-    b%val = 3.0_rp * b%val
-    allocate(a%val(a%nnz()))
-    a%val = b%val
+    ! two PCG steps: products by the inner AMG (no matrix) against s's
     allocate(boomeramg_precon_t :: inner1, inner2)
     select type (inner1)
     type is (boomeramg_precon_t)
-      call inner1%setup_taking(a, p, st)
+      call inner1%setup_rows(src, p, st)
     end select
     select type (inner2)
     type is (boomeramg_precon_t)
-      call inner2%setup(b, p, st)
+      call inner2%setup(s, p, st)
     end select
-    call cg_by_inner%init_steps(a, inner1, 2, by_inner=.true.)
-    call cg_by_a%init_steps(b, inner2, 2)
+    call cg_by_inner%init_steps(inner1, 2)
+    call cg_by_s%init_steps(inner2, 2, s)
     call cg_by_inner%apply(x, z1)
-    call cg_by_a%apply(x, z2)
-    call suite%assert_close_array(z1, z2, 1.0e-11_rp, 'taking: PCG steps by the inner AMG''s products give a''s')
+    call cg_by_s%apply(x, z2)
+    call suite%assert_close_array(z1, z2, 1.0e-10_rp, 'rows: PCG steps by the inner AMG''s products give s''s')
     call cg_by_inner%free()
-    call cg_by_a%free()
+    call cg_by_s%free()
     call amg%free()
     call plain%free()
     call a%free()
-    call b%free()
-  end subroutine test_taking
+    call s%free()
+    call g%free()
+  end subroutine test_rows
+
+  !> G: for global row i of n, the graph Laplacian of the edge (i, i + n/2)
+  !> (rows i <= n/2) or (i, i - n/2): 1 on the diagonal, -1 at the partner.
+  subroutine matching_laplacian(row_map, g)
+    type(index_map_t), intent(in) :: row_map
+    type(global_csr_t), intent(out) :: g
+    integer(gp) :: gid, half, partner
+    integer(ip) :: i
+    g%comm = row_map%comm
+    g%row_offsets = row_map%offsets
+    g%col_offsets = row_map%offsets
+    g%n_rows = row_map%n_owned
+    half = row_map%n_global / 2
+    allocate(g%row_ptr(g%n_rows + 1), g%gcol(2 * g%n_rows), g%val(2 * g%n_rows), g%key(g%n_rows))
+    do i = 1, g%n_rows
+      gid = row_map%first + i - 1
+      partner = merge(gid + half, gid - half, gid <= half)
+      g%row_ptr(i) = 2 * i - 1
+      g%gcol(2 * i - 1) = min(gid, partner)
+      g%gcol(2 * i) = max(gid, partner)
+      g%val(2 * i - 1:2 * i) = merge([1.0_rp, -1.0_rp], [-1.0_rp, 1.0_rp], gid < partner)
+      g%key(i) = gid
+    end do
+    g%row_ptr(g%n_rows + 1) = 2 * g%n_rows + 1
+  end subroutine matching_laplacian
 
   !> Three decoupled Laplacians scaled by 1, 100 and 0.01, interleaved
   !> (16^3 nodes, 12288 unknowns), with the default (elasticity) settings:

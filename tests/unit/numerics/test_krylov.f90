@@ -634,7 +634,7 @@ contains
       type is (jacobi_precon_t)
         call jac%setup(p%a, status)
       end select
-      call sp%init_steps(p%a, jac, k)
+      call sp%init_steps(jac, k, p%a)
       call sp%apply(p%b, z)
       call cg_solver%init(comm, rtol=0.0_rp, atol=0.0_rp, max_iter=k)
       x = 0.0_rp
