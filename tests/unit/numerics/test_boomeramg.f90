@@ -18,6 +18,7 @@ program test_boomeramg
   use inner_cg_precon, only: inner_cg_precon_t
   use global_csr, only: global_csr_t, union_to_csr, add_to_csr, add_csr_to_csr
   use sum_rows, only: sum_rows_t
+  use hypre_ij, only: hypre_ij_t
   use assertions, only: test_suite_t
   use fixture_matrices, only: build_laplacian
   implicit none
@@ -232,7 +233,8 @@ contains
     type(index_map_t), target :: row_map, col_map
     type(csr_matrix_t), target :: a, s
     type(global_csr_t), target :: g
-    type(sum_rows_t) :: src
+    type(sum_rows_t) :: src, src3
+    type(hypre_ij_t) :: ij
     type(boomeramg_precon_t) :: amg, plain
     class(precon_t), allocatable :: inner1, inner2
     type(inner_cg_precon_t) :: cg_by_inner, cg_by_s
@@ -277,6 +279,15 @@ contains
     call s%apply(x, y)
     call amg%matrix_product(x, yh)
     call suite%assert_close_array(yh, y, 1.0e-12_rp, 'rows: matrix_product is A + 5 G after update_rows')
+    ! a third term that meets the second's appended entries: A + 6 G - G,
+    ! each entry once (hypre's non-zeros) with A + 5 G's values
+    call src3%init(a, g, 6.0_rp, g, -1.0_rp)
+    call ij%init_rows(src3, st)
+    call suite%assert_true(st%ok() .and. comm%sum(int(ij%nnz, gp)) == s%global_nnz(), &
+                           'rows: A + 6 G - G has the entries of the assembled A + 5 G, each once')
+    call ij%matvec(x, yh)
+    call suite%assert_close_array(yh, y, 1.0e-12_rp, 'rows: A + 6 G - G by rows is A + 5 G')
+    call ij%free()
 
     ! two PCG steps: products by the inner AMG (no matrix) against s's
     allocate(boomeramg_precon_t :: inner1, inner2)
