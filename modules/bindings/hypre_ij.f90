@@ -35,7 +35,7 @@ module hypre_ij
   implicit none
   private
 
-  public :: hypre_ij_t, ij_rows_t, hypre_error_text, hypre_check
+  public :: hypre_ij_t, ij_rows_t, csr_rows_t, hypre_error_text, hypre_check
 
   !> A square matrix given row by row: row_map holds its owned rows (its
   !> columns are split among ranks alike), row(i) makes owned row i.
@@ -64,7 +64,7 @@ module hypre_ij
     end subroutine row_iface
   end interface
 
-  !> A csr_matrix_t as an ij_rows_t.
+  !> A csr_matrix_t as an ij_rows_t (a pointed to; sum_rows extends it).
   type, extends(ij_rows_t) :: csr_rows_t
     type(csr_matrix_t), pointer :: a => null()
   contains

@@ -9,14 +9,14 @@ module sum_rows
   use kinds, only: rp, ip, gp
   use csr_matrix, only: csr_matrix_t
   use global_csr, only: global_csr_t
-  use hypre_ij, only: ij_rows_t
+  use hypre_ij, only: csr_rows_t
   implicit none
   private
 
   public :: sum_rows_t
 
-  type, extends(ij_rows_t) :: sum_rows_t
-    type(csr_matrix_t), pointer :: m => null()
+  !> a (csr_rows_t's matrix) + alpha_g g (+ alpha_h h)
+  type, extends(csr_rows_t) :: sum_rows_t
     type(global_csr_t), pointer :: g => null()    !< null: no such term
     type(global_csr_t), pointer :: h => null()    !< null: no such term
     real(rp) :: alpha_g = 1.0_rp, alpha_h = 1.0_rp
@@ -37,7 +37,7 @@ contains
     type(global_csr_t), intent(in), target, optional :: g, h
     real(rp), intent(in), optional :: alpha_g, alpha_h
     self%row_map => m%row_map
-    self%m => m
+    self%a => m
     self%g => null()
     self%h => null()
     if (present(g)) then
@@ -55,16 +55,15 @@ contains
   !> m's longest row plus g's and h's (a bound of the sum's).
   integer(ip) function max_row(self)
     class(sum_rows_t), intent(in) :: self
-    max_row = longest(self%m%row_ptr, self%m%n_rows)
-    if (associated(self%g)) max_row = max_row + longest(self%g%row_ptr, self%g%n_rows)
-    if (associated(self%h)) max_row = max_row + longest(self%h%row_ptr, self%h%n_rows)
+    max_row = self%csr_rows_t%max_row()
+    if (associated(self%g)) max_row = max_row + longest(self%g)
+    if (associated(self%h)) max_row = max_row + longest(self%h)
   end function max_row
 
-  integer(ip) function longest(ptr, n)
-    integer(ip), intent(in) :: ptr(:)
-    integer(ip), intent(in) :: n
+  integer(ip) function longest(a)
+    type(global_csr_t), intent(in) :: a
     longest = 0
-    if (n > 0) longest = maxval(ptr(2:n + 1) - ptr(1:n))
+    if (a%n_rows > 0) longest = maxval(a%row_ptr(2:a%n_rows + 1) - a%row_ptr(1:a%n_rows))
   end function longest
 
   !> Owned row i of the sum: m's entries in m's order, then those of g and h
@@ -75,13 +74,7 @@ contains
     integer(gp), intent(inout) :: gcol(:)
     real(rp), intent(inout) :: val(:)
     integer(ip), intent(out) :: n
-    integer(ip) :: k, k0
-    k0 = self%m%row_ptr(i)
-    n = self%m%row_ptr(i + 1) - k0
-    do k = 1, n
-      gcol(k) = self%m%col_map%global_id(self%m%col(k0 + k - 1))
-    end do
-    val(1:n) = self%m%val(k0:k0 + n - 1)
+    call self%csr_rows_t%row(i, gcol, val, n)
     if (associated(self%g)) call merge(self%g, self%alpha_g)
     if (associated(self%h)) call merge(self%h, self%alpha_h)
   contains
@@ -128,7 +121,7 @@ contains
     real(rp), allocatable :: val(:)
     integer(ip) :: i, n, q
     allocate(gcol(self%max_row()), val(self%max_row()))
-    do i = 1, self%m%n_rows
+    do i = 1, self%a%n_rows
       call self%row(i, gcol, val, n)
       q = position(self%row_map%first + i - 1, gcol, n)
       d(i) = 0.0_rp
