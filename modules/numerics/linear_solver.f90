@@ -86,6 +86,7 @@ module linear_solver
     procedure :: is_direct
     procedure :: begin_step
     procedure :: drop_floor
+    procedure :: set_rtol
     procedure :: solve
     procedure :: describe
     procedure :: report_factorization
@@ -151,6 +152,14 @@ contains
     class(linear_solver_t), intent(inout) :: self
     self%first_norm = 0.0_rp
   end subroutine drop_floor
+
+  !> The relative tolerance of the next Krylov solves (the tolerance floor
+  !> stays that of init's rtol); no effect on a direct solve.
+  subroutine set_rtol(self, rtol)
+    class(linear_solver_t), intent(inout) :: self
+    real(rp), intent(in) :: rtol
+    if (allocated(self%krylov)) self%krylov%rtol = rtol
+  end subroutine set_rtol
 
   !> Solve sys (sys%x: initial guess in, solution out). info reports the
   !> iterations, the (scaled, for Krylov) relative residual, the residual

@@ -91,7 +91,7 @@ contains
     logical, intent(out) :: converged, cut_helps
     character(len=*), intent(out) :: why
     type(error_status_t), intent(inout) :: status
-    real(rp) :: secs, ratio_before
+    real(rp) :: secs, ratio_before, ratio_prev, rtol
     integer :: it, its
     logical :: stalled
     converged = .false.
@@ -100,6 +100,7 @@ contains
     stalled = .false.
     its = -1
     ratio_before = huge(1.0_rp)
+    ratio_prev = huge(1.0_rp)
     call self%ls%begin_step()
     ! with a residual test, one assembly more than solves: the residual of
     ! the last update is judged before the loop gives up
@@ -118,6 +119,7 @@ contains
           why = 'the linear solver stalled near rtol and the Newton residual did not fall ('//trim(why)//')'
           return
         end if
+        ratio_prev = ratio_before
         ratio_before = sim%residual_ratio
         if (it > sim%max_newton) exit
         ! a Krylov solve that stopped at once under the step's tolerance
@@ -125,7 +127,9 @@ contains
         ! digits
         if (its == 0 .and. .not. self%ls%is_direct()) call self%ls%drop_floor()
       end if
-      call self%solve_linear(sim, log, timers, step, t, it, stats, its, stalled, why)
+      rtol = solve_rtol(sim, it, self%ls%is_direct(), ratio_prev)
+      call self%ls%set_rtol(rtol)
+      call self%solve_linear(sim, log, timers, step, t, it, rtol, stats, its, stalled, why)
       if (len_trim(why) > 0) then
         cut_helps = it > 1 .or. (sim%transient .and. dt > 0.0_rp)
         return
@@ -140,17 +144,53 @@ contains
       ' iterations ('//trim(why)//')'
   end subroutine solve_step
 
+  !> The relative tolerance of the Krylov solve of Newton iteration it
+  !> (ratio_prev: the residual ratio of the check before this iteration's,
+  !> huge if none). With the physics' moving_rtol > 0: an iteration that
+  !> may still move an active set solves to moving_rtol (its statuses are a
+  !> guess, and digits beyond that decide nothing); once the statuses
+  !> settled, with the physics' settled_forcing (not with a fluid, whose
+  !> pressure error the residual does not bound), Eisenstat and Walker's
+  !> second forcing term (SIAM J. Sci.
+  !> Comput. 17 (1996) 16: 0.9 (r_k / r_k-1)^2, r the residual_ratio of
+  !> check_residual: the worst field's residual over its tolerance), but at
+  !> least need_factor / r_k, which would take the worst field to
+  !> need_factor times its tolerance were the step linear (the margin
+  !> covers that field's share of the scaled residual the Krylov method
+  !> measures), never looser than moving_rtol nor tighter than rtol.
+  !> Otherwise (and for a direct solve, which ignores it) the deck's rtol.
+  real(rp) function solve_rtol(sim, it, direct, ratio_prev) result(rtol)
+    class(simulation_t), intent(in) :: sim
+    integer, intent(in) :: it
+    logical, intent(in) :: direct
+    real(rp), intent(in) :: ratio_prev
+    real(rp), parameter :: ew_gamma = 0.9_rp, need_factor = 1.0e-3_rp
+    real(rp) :: eta, r
+    rtol = sim%solver%rtol
+    if (.not. (sim%moving_rtol > 0.0_rp) .or. direct) return
+    if (sim%active_set_moving(it)) then
+      rtol = max(rtol, sim%moving_rtol)
+    else if (sim%settled_forcing .and. sim%residual_test .and. it > 1) then
+      r = max(sim%residual_ratio, 1.0_rp)
+      eta = 0.0_rp
+      if (ratio_prev < huge(1.0_rp)) eta = ew_gamma * (r / max(ratio_prev, 1.0_rp))**2
+      eta = max(eta, need_factor / r)
+      rtol = max(rtol, min(sim%moving_rtol, eta))
+    end if
+  end function solve_rtol
+
   !> The linear system of iteration it: set up by the physics, exported or
   !> measured against the elastic reference if asked, solved in its
   !> iterations. why is set when the solve failed (empty otherwise).
   !> Collective.
-  subroutine solve_linear(self, sim, log, timers, step, t, it, stats, its, stalled, why)
+  subroutine solve_linear(self, sim, log, timers, step, t, it, rtol, stats, its, stalled, why)
     class(newton_loop_t), intent(inout) :: self
     class(simulation_t), intent(inout), target :: sim
     type(logger_t), intent(inout) :: log
     type(timer_set_t), intent(inout) :: timers
     integer, intent(in) :: step, it
     real(rp), intent(in) :: t
+    real(rp), intent(in) :: rtol                  !< the Krylov solve's relative tolerance
     type(step_stats_t), intent(inout) :: stats
     integer, intent(out) :: its                   !< iterations of the solve
     logical, intent(out) :: stalled               !< a Krylov solve stalled near rtol was accepted
@@ -218,14 +258,14 @@ contains
     has_nan = sim%comm%any_true(any(self%sys%x /= self%sys%x))
     if (has_nan) then
       why = 'the linear solver returned NaN: '//trim(info%msg)
-    else if (.not. info%converged .and. .not. self%ls%is_direct() .and. info%rel_res <= stall_factor * sim%solver%rtol) then
+    else if (.not. info%converged .and. .not. self%ls%is_direct() .and. info%rel_res <= stall_factor * rtol) then
       ! a stall a hair above rtol is no reason to cut the step: accepted,
       ! said, counted; the Newton loop checks that its residual still falls
       stalled = .true.
       stats%near_rtol = stats%near_rtol + 1
       call log%warn('step '//itoa(step)//', Newton iteration '//itoa(it)//': the linear solver stalled at a '// &
         'relative residual of '//trim(rtoa(info%rel_res))//', within '//itoa(nint(stall_factor))//'x of rtol = '// &
-        trim(rtoa(sim%solver%rtol))//': accepted')
+        trim(rtoa(rtol))//': accepted')
     else if (.not. info%converged) then
       if (sim%solver%fail_on_no_convergence) then
         why = 'the linear solver did not converge: '//trim(info%msg)

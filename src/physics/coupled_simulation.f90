@@ -65,6 +65,9 @@ module coupled_simulation
     ! the Newton loop's convergence test (check_residual)
     integer(gp) :: changes = 0                      !< status changes of the last update
     integer :: settled_at = 0                       !< the update from which no status changed (0: not yet)
+    logical :: step_moved = .false.                 !< an update of this step changed a status
+    logical :: last_moved = .true.                  !< one of the last step did (the run's first: assumed)
+    logical :: begun = .false.                      !< a step has begun
     integer, allocatable :: field_at(:)             !< per residual, the update from which it is within tolerance
     real(rp), allocatable :: ref_max(:)             !< per residual, the largest magnitude of the run
   contains
@@ -81,6 +84,7 @@ module coupled_simulation
     procedure :: linear_system
     procedure :: update
     procedure :: check_residual
+    procedure :: active_set_moving
     procedure :: save_state
     procedure :: load_state
     procedure :: accept_step
@@ -427,6 +431,9 @@ contains
     real(rp), intent(in) :: t, dt
     type(error_status_t), intent(inout) :: status
     integer :: k
+    if (self%begun) self%last_moved = self%step_moved
+    self%begun = .true.
+    self%step_moved = .false.
     self%changes = 0
     self%settled_at = 0
     self%field_at = 0
@@ -626,6 +633,7 @@ contains
         self%changes = self%changes + n
       end do
       if (self%changes > 0) self%settled_at = 0
+      if (self%changes > 0) self%step_moved = .true.
       if (self%changes == 0 .and. self%settled_at == 0) self%settled_at = iteration
       write(line, '(a,i3,a,i5)') '  newton ', iteration, '  linear its ', linear_its
       f0 = 0
@@ -643,6 +651,22 @@ contains
     converged = .false.
     why = ''
   end subroutine update
+
+  !> Every Newton iteration after an update that changed a status may still
+  !> move the active set, and so may the first of a step when the last step
+  !> changed statuses (the loads are still moving them; the first step of
+  !> the run is assumed to). The first iteration of a step that follows a
+  !> step with no status change is solved to rtol: a proportional or steady
+  !> step then converges in one update, as the exact loop does.
+  logical function active_set_moving(self, iteration)
+    class(coupled_simulation_t), intent(in) :: self
+    integer, intent(in) :: iteration
+    if (iteration == 1) then
+      active_set_moving = self%last_moved
+    else
+      active_set_moving = self%changes > 0
+    end if
+  end function active_set_moving
 
   !> The residual of the iterate per residual of the components, in
   !> physical units (force [N], traction [Pa], fluid volume of the step
@@ -791,6 +815,9 @@ contains
     do k = 1, size(self%slots)
       call self%slots(k)%c%save_state(self%ctx, st)
     end do
+    ! whether the step changed statuses: the next step's first solve
+    ! (active_set_moving) is then the same in a resumed run
+    call st%put('newton_step_moved', [merge(1, 0, self%step_moved)])
   end subroutine save_state
 
   subroutine load_state(self, st, status)
@@ -798,10 +825,18 @@ contains
     type(state_record_t), intent(in) :: st
     type(error_status_t), intent(inout) :: status
     integer :: k
+    integer :: moved(1)
     do k = 1, size(self%slots)
       call self%slots(k)%c%load_state(self%ctx, st, status)
     end do
     call take_solution(self)
+    ! (a checkpoint written before this entry existed: the next step is
+    ! taken as a run's first)
+    if (st%find('newton_step_moved') > 0) then
+      call st%get('newton_step_moved', moved, status)
+      self%step_moved = moved(1) == 1
+      self%begun = .true.
+    end if
   end subroutine load_state
 
   subroutine accept_step(self)

@@ -240,6 +240,11 @@ contains
       sim%max_newton = self%ccfg%max_newton
       sim%max_cuts = self%ccfg%max_cuts
       sim%residual_test = .true.
+      sim%moving_rtol = self%ccfg%moving_rtol
+      ! with a fluid the residual alone does not bound the pressure's error
+      ! (coupled_simulation's check_residual): its settled iterations solve
+      ! to rtol
+      sim%settled_forcing = .not. (matrix .or. associated(ctx%find('fracture_flow')))
       ctx%newton_tol = self%ccfg%newton_tol
       if (sim%solver%method == 'cg') then
         call status%set("deck '"//trim(d%path)//"', group &solver, variable method: "// &

@@ -108,6 +108,12 @@ module simulation
     !> check_residual's largest residual over tolerance of the fields
     !> (below 1: converged), for the Newton loop's progress check
     real(rp) :: residual_ratio = 0.0_rp
+    !> relative tolerance of a Krylov solve whose Newton iteration still
+    !> moves an active set (active_set_moving); 0: the deck's rtol always
+    real(rp) :: moving_rtol = 0.0_rp
+    !> with moving_rtol: the settled iterations' solves by Eisenstat and
+    !> Walker's forcing term (else to rtol)
+    logical :: settled_forcing = .false.
     integer :: max_cuts = 0                                !< halvings of a step that does not converge
     type(geostatic_config_t) :: geo                        !< &geostatic (geo%on: the run starts in situ)
     logical :: initial_step = .false.                      !< a step 0 at t = 0 before any load (geostatic)
@@ -139,6 +145,7 @@ module simulation
     procedure :: controls_group
     procedure :: finish
     procedure :: check_residual
+    procedure :: active_set_moving
   end type simulation_t
 
   abstract interface
@@ -425,6 +432,15 @@ contains
     converged = .false.
     why = ''
   end subroutine check_residual
+
+  !> Whether Newton iteration `iteration` of the step may still change an
+  !> active set, so that its linear solve need not be tight (moving_rtol).
+  !> Default (no active set): never. The same on every rank.
+  logical function active_set_moving(self, iteration)
+    class(simulation_t), intent(in) :: self
+    integer, intent(in) :: iteration
+    active_set_moving = .false.
+  end function active_set_moving
 
   !> Closing lines of the run (default: none). Collective.
   subroutine finish(self, log)

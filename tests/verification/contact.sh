@@ -58,6 +58,9 @@ space() {  # name, space: a deck of the face-bubble space gets its &contact grou
 lin() {  # run -> FGMRES iterations of all its load steps
   grep '^load step' "$out/$1.log" | sed -E 's/.*linear its +([0-9]+).*/\1/' | awk '{s += $1} END {print s + 0}'
 }
+newtons() {  # run -> Newton iterations of its load steps, as a list
+  grep '^load step' "$out/$1.log" | sed -E 's/.*newton +([0-9]+).*/\1/' | tr '\n' ' ' | sed 's/ $//'
+}
 fewer() {  # run, reference run, what: ok when run took fewer FGMRES iterations than the reference
   local a b
   a=$(lin "$1"); b=$(lin "$2")
@@ -217,6 +220,25 @@ stronger block_inner block_reordered block_mumps "reordered with S* by an inner 
   "&contact\n  block = 'reordered', schur_solve = 'inner_cg'\n/\n"
 stronger block_pcg block_reordered block_mumps "reordered with S* by 2 PCG steps" \
   "&contact\n  block = 'reordered', schur_solve = 'pcg'\n/\n"
+# the exact Newton loop (every solve to rtol): by default the solves of the
+# iterations whose statuses may still move stop at &contact moving_rtol (the
+# first of a step after one that changed statuses, each after an update that
+# did): the same answer, fewer FGMRES iterations in all; a step after one in
+# which no status changed starts with a solve to rtol, as the exact loop
+for m in moving exact; do
+  deck "block_$m" tests/decks/contact_block.nml -e "s#method = 'mumps'#method = 'fgmres', rtol = 1.0e-10#" \
+    -e "s#n_steps = 2#n_steps = 3#"
+  printf "&contact\n  block = 'reordered', schur_solve = 'pcg'%s\n/\n" "$([ $m = exact ] && echo ', moving_rtol = 0.0')" \
+    >> "$out/block_$m.nml"
+done
+if run block_moving 2 && run block_exact 2; then
+  check "the default loop (moving_rtol = 1e-3) vs the exact loop, 3 load steps (1e-6)" $PY \
+    tests/verification/check_contact.py same "$out/block_exact" "$out/block_moving" 1e-6
+  fewer block_moving block_exact "the default loop (moving_rtol = 1e-3)"
+  a=$(newtons block_moving); b=$(newtons block_exact)
+  [ -n "$a" ] && [ "${a##* }" = "${b##* }" ] && ok "Newton iterations per step: default $a, exact loop $b (the same in the last step, after one with no status change)" || \
+    ko "Newton iterations per step: default $a, exact loop $b (the last step's should be the same)"
+fi
 grep -q "stick/slip/open [0-9]*/[1-9]" "$out/block_mumps.log" && ok "the block case has slipping elements" || \
   ko "the block case has no slipping element"
 
