@@ -223,9 +223,10 @@ contains
     type(deck_t), intent(in) :: d
     type(error_status_t), intent(inout) :: status
     type(mechanics_component_t), pointer :: mc
-    logical :: matrix
+    logical :: matrix, fluid
     ! with the matrix's fluid, a mesh without faults is Biot's problem
     matrix = associated(ctx%find('matrix_flow'))
+    fluid = matrix .or. associated(ctx%find('fracture_flow'))
     associate (sim => ctx%sim)
       ! the in-situ and pressure-change loads are nodal: the bubbles' share of
       ! them is not made yet
@@ -236,7 +237,7 @@ contains
       end if
       mc => mechanics_of(ctx)
       mc%bubble = self%ccfg%space == 'bubble'
-      call self%ccfg%resolve_schur_solve(matrix .or. associated(ctx%find('fracture_flow')))
+      call self%ccfg%resolve_schur_solve(fluid)
       sim%max_newton = self%ccfg%max_newton
       sim%max_cuts = self%ccfg%max_cuts
       sim%residual_test = .true.
@@ -244,7 +245,7 @@ contains
       ! with a fluid the residual alone does not bound the pressure's error
       ! (coupled_simulation's check_residual): its settled iterations solve
       ! to rtol
-      sim%settled_forcing = .not. (matrix .or. associated(ctx%find('fracture_flow')))
+      sim%settled_forcing = .not. fluid
       ctx%newton_tol = self%ccfg%newton_tol
       if (sim%solver%method == 'cg') then
         call status%set("deck '"//trim(d%path)//"', group &solver, variable method: "// &
