@@ -32,7 +32,9 @@
 # bubble_augmented_wcycle) runs it with BoomerAMG's W-cycle (&amg cycle_type
 # = 'w'; the elastic reference then uses it too), <preconditioner>_w3 with
 # W(3,3) cycles (cycle_type = 'w', num_sweeps = 3); <preconditioner>_pcg
-# applies S* by 2 CG steps with BoomerAMG (&contact schur_solve = 'pcg').
+# applies S* by 2 CG steps with BoomerAMG (&contact schur_solve = 'pcg', the
+# reordered preconditioner's default), <preconditioner>_vcycle by one
+# V-cycle (schur_solve = 'vcycle').
 # By default (make bench) the four preconditioners a user runs, reordered,
 # classical, augmented and bubble_augmented; the diagnostic variants are run
 # by bench/run_bench_contact_diagnostics.sh (make bench-large).
@@ -76,6 +78,9 @@ run_case() {  # n mix solver -> writes $out/contact_${n}_${mix}_${solver}.log
     reordered_pcg)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="block = 'reordered', schur_solve = 'pcg'" ;;
+    reordered_vcycle)
+               solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
+               contact="block = 'reordered', schur_solve = 'vcycle'" ;;
     bubble_augmented_strong_amg|bubble_augmented_wcycle|bubble_augmented_w3)
                solver="method = 'fgmres', rtol = 1.0e-8, elastic_reference = .true."
                contact="space = 'bubble', block = 'augmented', max_cuts = 0" ;;

@@ -441,6 +441,9 @@ contains
     self%ctx%time = t
     self%ctx%dt = dt
     self%ctx%initial = self%initial_step .and. dt == 0.0_rp
+    ! a step without status updates (step 0 with the faults bonded) decides
+    ! no status: the next step's first iteration may move them
+    if (self%ctx%initial) self%step_moved = .true.
     do k = 1, size(self%slots)
       call self%slots(k)%c%begin_step(self%ctx)
     end do
@@ -657,11 +660,15 @@ contains
   !> changed statuses (the loads are still moving them; the first step of
   !> the run is assumed to). The first iteration of a step that follows a
   !> step with no status change is solved to rtol: a proportional or steady
-  !> step then converges in one update, as the exact loop does.
+  !> step then converges in one update, as the exact loop does. A step
+  !> without updates (step 0 with the faults bonded) moves none, and counts
+  !> as a step that did for the next (it judged no status).
   logical function active_set_moving(self, iteration)
     class(coupled_simulation_t), intent(in) :: self
     integer, intent(in) :: iteration
-    if (iteration == 1) then
+    if (self%ctx%initial) then
+      active_set_moving = .false.
+    else if (iteration == 1) then
       active_set_moving = self%last_moved
     else
       active_set_moving = self%changes > 0
