@@ -29,7 +29,8 @@
 !>                  BoomerAMG to 1e-10, a near-exact solve: a diagnostic that
 !>                  separates the Schur approximation from the AMG; slow)
 !>                  ['pcg' for the reordered preconditioner of contact alone:
-!>                  flat counts at the V-cycle's time or less (contact.md);
+!>                  flat counts (with the inexact Newton loop the V-cycle
+!>                  is ~10 % faster up to n = 40: contact.md);
 !>                  'vcycle' with a fluid, where the saved iterations do not
 !>                  pay for the second cycle, and for the other blocks; the
 !>                  composition resolves it: resolve_schur_solve]
