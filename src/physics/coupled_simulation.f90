@@ -65,9 +65,10 @@ module coupled_simulation
     ! the Newton loop's convergence test (check_residual)
     integer(gp) :: changes = 0                      !< status changes of the last update
     integer :: settled_at = 0                       !< the update from which no status changed (0: not yet)
-    logical :: step_moved = .false.                 !< an update of this step changed a status
-    logical :: last_moved = .true.                  !< one of the last step did (the run's first: assumed)
-    logical :: begun = .false.                      !< a step has begun
+    !> an update of this step changed a status (before the run's first
+    !> step: assumed, so that step's first iteration counts as moving)
+    logical :: step_moved = .true.
+    logical :: last_moved = .true.                  !< one of the last step did
     integer, allocatable :: field_at(:)             !< per residual, the update from which it is within tolerance
     real(rp), allocatable :: ref_max(:)             !< per residual, the largest magnitude of the run
   contains
@@ -431,8 +432,7 @@ contains
     real(rp), intent(in) :: t, dt
     type(error_status_t), intent(inout) :: status
     integer :: k
-    if (self%begun) self%last_moved = self%step_moved
-    self%begun = .true.
+    self%last_moved = self%step_moved
     self%step_moved = .false.
     self%changes = 0
     self%settled_at = 0
@@ -635,8 +635,10 @@ contains
         call self%slots(k)%c%update_status(ctx, n)
         self%changes = self%changes + n
       end do
-      if (self%changes > 0) self%settled_at = 0
-      if (self%changes > 0) self%step_moved = .true.
+      if (self%changes > 0) then
+        self%settled_at = 0
+        self%step_moved = .true.
+      end if
       if (self%changes == 0 .and. self%settled_at == 0) self%settled_at = iteration
       write(line, '(a,i3,a,i5)') '  newton ', iteration, '  linear its ', linear_its
       f0 = 0
@@ -842,7 +844,6 @@ contains
     if (st%find('newton_step_moved') > 0) then
       call st%get('newton_step_moved', moved, status)
       self%step_moved = moved(1) == 1
-      self%begun = .true.
     end if
   end subroutine load_state
 
