@@ -54,6 +54,13 @@
 !>                  largest tension of the closed elements that may change
 !>                  (so the worst one always opens); 0 opens all, in [0, 1)
 !>                                                                        [0]
+!>   close_ratio    early closing: an open element beside a closed one closes,
+!>                  once a step, when its gap fell below close_ratio times
+!>                  its gap at the previous update (0.5: the line through its
+!>                  last two gaps reaches zero by the next update); 0: only
+!>                  an overlap closes it, in [0, 1). Seed's nine fractures,
+!>                  opening step: 9 Newton iterations against 12
+!>                  (doc/benchmarks.md#active-set)                     [0.5]
 !>   moving_rtol    FGMRES: relative tolerance of the linear solve of a Newton
 !>                  iteration that may still move the active set (each after
 !>                  an update that changed a status, the first of a step
@@ -104,6 +111,7 @@ module contact_config
     real(rp) :: newton_tol = 1.0e-8_rp
     real(rp) :: status_tol = 1.0e-6_rp
     real(rp) :: open_fraction = 0.0_rp
+    real(rp) :: close_ratio = 0.5_rp
     real(rp) :: moving_rtol = 1.0e-3_rp
     integer :: max_cuts = 8
     logical :: reuse = .true.
@@ -122,20 +130,20 @@ contains
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: space, stabilization, block, schur_precon, schur_solve
-    real(rp) :: aug_scale, newton_tol, status_tol, open_fraction, moving_rtol
+    real(rp) :: aug_scale, newton_tol, status_tol, open_fraction, moving_rtol, close_ratio
     integer :: max_newton, max_cuts, schur_its, ios
     logical :: reuse
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     namelist /contact/ space, stabilization, block, schur_precon, aug_scale, schur_solve, schur_its, max_newton, &
-                       newton_tol, status_tol, open_fraction, moving_rtol, max_cuts, reuse
+                       newton_tol, status_tol, open_fraction, moving_rtol, max_cuts, reuse, close_ratio
 
     ! stabilization and block: '' until the deck sets them (their defaults
     ! follow the space)
     space = self%space; stabilization = ''; block = ''; schur_precon = self%schur_precon
     aug_scale = self%aug_scale; schur_solve = self%schur_solve; max_newton = self%max_newton; newton_tol = self%newton_tol
     status_tol = self%status_tol; max_cuts = self%max_cuts; reuse = self%reuse; schur_its = self%schur_its
-    open_fraction = self%open_fraction; moving_rtol = self%moving_rtol
+    open_fraction = self%open_fraction; moving_rtol = self%moving_rtol; close_ratio = self%close_ratio
     if (d%count('contact') > 0) then
       call d%block('contact', 1, b)
       read(b, nml=contact, iostat=ios, iomsg=msg)
@@ -176,9 +184,11 @@ contains
       'open_fraction', 'must lie in [0, 1) (got '//rtoa(open_fraction)//')')
     if (.not. (moving_rtol >= 0.0_rp .and. moving_rtol < 1.0_rp)) call d%fail(status, 'contact', 1, &
       'moving_rtol', 'must lie in [0, 1) (got '//rtoa(moving_rtol)//')')
+    if (.not. (close_ratio >= 0.0_rp .and. close_ratio < 1.0_rp)) call d%fail(status, 'contact', 1, &
+      'close_ratio', 'must lie in [0, 1) (got '//rtoa(close_ratio)//')')
     if (max_cuts < 0) call d%fail(status, 'contact', 1, 'max_cuts', 'must be >= 0 (got '//itoa(max_cuts)//')')
     if (.not. status%ok()) return
-    self%open_fraction = open_fraction; self%moving_rtol = moving_rtol
+    self%open_fraction = open_fraction; self%moving_rtol = moving_rtol; self%close_ratio = close_ratio
     self%space = space; self%stabilization = stabilization; self%block = block; self%schur_precon = schur_precon
     self%aug_scale = aug_scale; self%schur_solve = schur_solve; self%max_newton = max_newton; self%newton_tol = newton_tol
     self%status_tol = status_tol; self%max_cuts = max_cuts; self%reuse = reuse; self%schur_its = schur_its
@@ -234,6 +244,9 @@ contains
     call g%add('open_fraction', self%open_fraction, '-', 'damped opening: an update opens a closed element '// &
                'only if its tension is at least open_fraction times the largest tension of the closed elements '// &
                '(0: every element in tension opens)', '[0, 1)')
+    call g%add('close_ratio', self%close_ratio, '-', 'early closing: an open element beside a closed one '// &
+               'closes (once a step) when its gap fell below close_ratio times its gap at the previous update '// &
+               '(0: only an overlap closes it)', '[0, 1)')
     call g%add('moving_rtol', self%moving_rtol, '-', 'FGMRES: relative tolerance of the solve of a Newton '// &
                'iteration that may still move the active set (each after an update that changed a status, the '// &
                'first of a step after one that did); once statuses settle, Eisenstat-Walker forcing down to '// &

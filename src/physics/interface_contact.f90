@@ -113,6 +113,8 @@ module interface_contact
     logical, allocatable :: fresh(:)               !< slipping since the last status update (was stick)
     logical, allocatable :: slipped(:)             !< slip at the step's start or at an update of the step
     real(rp), allocatable :: allow(:)              !< min(c |dg|, tau) at the element's last stuck iterate of the step [Pa]
+    real(rp), allocatable :: gap_prev(:)           !< an open element's normal jump at the previous update of the step [m] (-1: none)
+    logical, allocatable :: early(:)               !< closed by its gap's trend in this step (close_ratio)
     integer(gp), allocatable :: held(:)            !< per fault (of faults(:)): elements held in their status at the last update
     integer(gp), allocatable :: held_open(:)       !< the same, held between open and closed
     !> the largest held violation of the last update (held_excess): which
@@ -303,9 +305,11 @@ contains
       call edge_blocks(self, mesh)
       ! fault properties and initial state
       allocate(self%fric(n), self%coh(n), self%pres(n), self%state(n), self%fault(n), self%flips(n), self%fresh(n), &
-               self%slipped(n), self%allow(n))
+               self%slipped(n), self%allow(n), self%gap_prev(n), self%early(n))
       self%flips = 0
       self%allow = 0.0_rp
+      self%gap_prev = -1.0_rp
+      self%early = .false.
       self%fresh = .false.
       self%slipped = .false.
       do e = 1, n
@@ -423,6 +427,8 @@ contains
     self%fresh = .false.
     self%slipped = self%state == state_slip
     self%allow = 0.0_rp
+    self%gap_prev = -1.0_rp
+    self%early = .false.
     lf = ctx%lf
     associate (mesh => ctx%mesh, mech => self%mc%mech)
       do e = 1, mesh%n_ifaces
@@ -706,7 +712,8 @@ contains
     if (allocated(self%area)) deallocate(self%area, self%wn, self%rot, self%wb)
     if (allocated(self%s)) deallocate(self%s)
     if (allocated(self%fric)) deallocate(self%fric, self%coh, self%pres, self%state, &
-                                                 self%fault, self%flips, self%fresh, self%slipped, self%allow)
+                                                 self%fault, self%flips, self%fresh, self%slipped, self%allow, &
+                                                 self%gap_prev, self%early)
     if (allocated(self%held)) deallocate(self%held, self%held_open)
     if (allocated(self%trac)) deallocate(self%trac, self%trac_step, self%jump, self%jump_step, self%jump_geo, &
                                          self%jump_mag)
@@ -1078,6 +1085,7 @@ contains
     type(parallel_comm_t) :: comm
     real(rp) :: t_ref, g_ref, excess, t_open, big
     real(rp), allocatable :: st(:)
+    integer, allocatable :: before(:)
     integer(ip) :: e, nown
     integer :: new, kind
     comm = mesh%comm
@@ -1112,8 +1120,15 @@ contains
     self%held_excess = 0.0_rp
     self%held_kind = 0
     self%held_allow = 0.0_rp
+    before = self%state
     do e = 1, nown
       call judge_element(self, e, tol, t_ref, g_ref, t_open, new, excess, kind)
+      if (new == state_open .and. self%state(e) == state_open .and. self%ccfg%close_ratio > 0.0_rp) then
+        if (closes_early(self, e, before)) then
+          new = merge(state_slip, state_stick, self%slipped(e))
+          self%early(e) = .true.
+        end if
+      end if
       ! an element that changed max_flips times in this step sits on the
       ! friction limit (stick <-> slip) or at the opening (open <-> closed:
       ! t_N and g_N both zero) within the tolerances: it keeps its status.
@@ -1157,6 +1172,8 @@ contains
       ! one that slips again (it turned back through stick) takes the exact
       ! derivative at once
       self%fresh(e) = new == state_slip .and. self%state(e) == state_stick .and. .not. self%slipped(e)
+      ! the gap an element that stays open had at this update (close_ratio)
+      self%gap_prev(e) = merge(self%jump(1, e), -1.0_rp, new == state_open .and. self%state(e) == state_open)
       if (new == state_slip) self%slipped(e) = .true.
       self%state(e) = new
     end do
@@ -1186,6 +1203,38 @@ contains
     call mesh%iface_map%import(st)
     self%state = nint(st)
   end function update_states
+
+  !> Whether open element e closes ahead of its overlap (&contact
+  !> close_ratio): once a step, an open element beside a closed one (before:
+  !> the statuses before this update) whose gap fell below close_ratio times
+  !> its gap at the previous update. With 0.5 that is the linear
+  !> extrapolation of its last two gaps reaching zero by the next update.
+  !> (Seed's nine fractures at 1 m cells, opening step: the first update
+  !> opens 349 elements where 74-95 stay open, and the overlap alone closed
+  !> the excess a ring per update as each edge element's gap shrank, e.g.
+  !> 3.12, 1.65, 0.73, 0.23 micrometres: 12 Newton iterations; with 0.5, 9,
+  !> in another state of the band consistent open and closed; 0.6: 10, with
+  !> reopenings.) Local.
+  logical function closes_early(self, e, before) result(yes)
+    class(interface_contact_t), intent(in) :: self
+    integer(ip), intent(in) :: e
+    integer, intent(in) :: before(:)
+    integer :: k
+    integer(ip) :: ed, o
+    yes = .false.
+    if (self%early(e) .or. .not. (self%gap_prev(e) > 0.0_rp)) return
+    if (.not. (self%jump(1, e) < self%ccfg%close_ratio * self%gap_prev(e))) return
+    do k = 1, 4
+      ed = self%edges%of_elem(k, e)
+      if (ed <= 0) cycle
+      o = self%edges%pair(1, ed)
+      if (o == e) o = self%edges%pair(2, ed)
+      if (before(o) /= state_open) then
+        yes = .true.
+        return
+      end if
+    end do
+  end function closes_early
 
   !> The status element e's iterate asks for (new: its own when no check
   !> fails), the violation that asks for it relative to t_ref (g_ref for an
