@@ -23,7 +23,10 @@
 !>    begin_step both change again and nothing is held;
 !>  - after every update the statuses of the ghost elements are their
 !>    owners' (each element's expected status follows from its original id,
-!>    so it is the same on every rank that has it), the counts are global.
+!>    so it is the same on every rank that has it), the counts are global;
+!>  - early closing (close_ratio 0.5): an open element beside a closed one
+!>    closes when its gap fell below half its gap at the previous update,
+!>    not one without a closed neighbour or above the ratio; with 0, none.
 !> Run on 1 and 2 ranks.
 program test_contact_states
   use kinds, only: rp, ip, gp
@@ -271,11 +274,57 @@ program test_contact_states
   call suite%assert_true(changed == 0 .and. all(ct%state == state_stick), &
     'no shear, t_N > 0 within the tolerance, friction 60 degrees, no cohesion: stays stick (tau >= 0)')
 
+  ! ---- early closing (&contact close_ratio): on each fault the column x < 0.25
+  ! is closed, the others open at g0; at the next update the second column's
+  ! half y < 0.5 has 0.4 g0 (closes with 0.5, not with 0), its half y > 0.5
+  ! 0.6 g0 (stays), the columns beyond 0.4 g0 (stay: no closed neighbour)
+  do k = 1, 2
+    call ct%begin_step(cs%ctx)
+    ct%ccfg%close_ratio = merge(0.5_rp, 0.0_rp, k == 1)
+    label = merge('close_ratio 0.5', 'close_ratio 0  ', k == 1)
+    ct%fric = tan(30.0_rp * pi / 180.0_rp)
+    ct%coh = 0.0_rp
+    ct%trac = 0.0_rp
+    ct%jump = 0.0_rp
+    ct%jump_step = 0.0_rp
+    do e = 1, dm%n_ifaces
+      if (centre(e, 1) < 0.25_rp) then
+        ct%state(e) = state_stick
+        ct%trac(1, e) = -t0
+      else
+        ct%state(e) = state_open
+        ct%jump(1, e) = g0
+      end if
+    end do
+    want = ct%state
+    changed = ct%update_states(dm, tol)
+    call suite%assert_true(changed == 0 .and. all(ct%state == want), &
+      'early closing, '//trim(label)//': no change at the first update of the step')
+    do e = 1, dm%n_ifaces
+      if (ct%state(e) /= state_open) cycle
+      ct%jump(1, e) = 0.4_rp * g0
+      if (centre(e, 1) < 0.5_rp .and. centre(e, 2) > 0.5_rp) ct%jump(1, e) = 0.6_rp * g0
+      if (k == 1 .and. centre(e, 1) < 0.5_rp .and. centre(e, 2) < 0.5_rp) want(e) = state_stick
+    end do
+    changed = ct%update_states(dm, tol)
+    call suite%assert_equal_int(int(changed), merge(4, 0, k == 1), &
+      'early closing, '//trim(label)//': status changes of the second update')
+    call suite%assert_true(.not. comm%any_true(any(ct%state /= want)), 'early closing, '//trim(label)// &
+      ': only the elements beside a closed one whose gap fell below the ratio close (owned and ghost)')
+  end do
+
   call sim%free()
   call dm%free()
   call suite%finish()
 
 contains
+
+  !> Coordinate i of local interface element e's centre (its minus side).
+  real(rp) function centre(e, i)
+    integer(ip), intent(in) :: e
+    integer, intent(in) :: i
+    centre = sum(dm%coords(i, dm%iface_nodes(:, 1, e))) / 4.0_rp
+  end function centre
 
   !> Mesh, faults, materials and boundaries from the deck; the composition
   !> 'contact' (mechanics and interface contact) set up and its first step
