@@ -1122,13 +1122,7 @@ contains
     self%held_allow = 0.0_rp
     before = self%state
     do e = 1, nown
-      call judge_element(self, e, tol, t_ref, g_ref, t_open, new, excess, kind)
-      if (new == state_open .and. self%state(e) == state_open .and. self%ccfg%close_ratio > 0.0_rp) then
-        if (closes_early(self, e, before)) then
-          new = merge(state_slip, state_stick, self%slipped(e))
-          self%early(e) = .true.
-        end if
-      end if
+      call judge_element(self, e, tol, t_ref, g_ref, t_open, before, new, excess, kind)
       ! an element that changed max_flips times in this step sits on the
       ! friction limit (stick <-> slip) or at the opening (open <-> closed:
       ! t_N and g_N both zero) within the tolerances: it keeps its status.
@@ -1222,7 +1216,7 @@ contains
     integer :: k
     integer(ip) :: ed, o
     yes = .false.
-    if (self%early(e) .or. .not. (self%gap_prev(e) > 0.0_rp)) return
+    if (.not. self%ccfg%close_ratio > 0.0_rp .or. self%early(e) .or. .not. (self%gap_prev(e) > 0.0_rp)) return
     if (.not. (self%jump(1, e) < self%ccfg%close_ratio * self%gap_prev(e))) return
     do k = 1, 4
       ed = self%edges%of_elem(k, e)
@@ -1240,11 +1234,12 @@ contains
   !> fails), the violation that asks for it relative to t_ref (g_ref for an
   !> overlap) and which check it broke (viol_*, 0: none); records a stuck
   !> element's stabilization allowance. Local.
-  subroutine judge_element(self, e, tol, t_ref, g_ref, t_open, new, excess, kind)
+  subroutine judge_element(self, e, tol, t_ref, g_ref, t_open, before, new, excess, kind)
     class(interface_contact_t), intent(inout) :: self
     integer(ip), intent(in) :: e
     real(rp), intent(in) :: tol, t_ref, g_ref   !< the checks' tolerance, the largest traction and jump
     real(rp), intent(in) :: t_open              !< the tension at which a closed element opens
+    integer, intent(in) :: before(:)            !< the statuses before this update (closes_early)
     integer, intent(out) :: new, kind
     real(rp), intent(out) :: excess
     real(rp) :: tau, dg(2), cdg(2), under, back
@@ -1303,7 +1298,13 @@ contains
       ! send it to stick once its friction holds. (Seed's nine fractures at
       ! 1 m cells, opening step: 137 of 349 elements closed into stick,
       ! and stick <-> slip changed 100-300 statuses an update for 14.)
-      if (self%jump(1, e) < -tol * g_ref) new = merge(state_slip, state_stick, self%slipped(e))
+      ! (or ahead of its overlap: closes_early)
+      if (self%jump(1, e) < -tol * g_ref) then
+        new = merge(state_slip, state_stick, self%slipped(e))
+      else if (closes_early(self, e, before)) then
+        new = merge(state_slip, state_stick, self%slipped(e))
+        self%early(e) = .true.
+      end if
       excess = -self%jump(1, e) / g_ref
       kind = viol_overlap
     end select
