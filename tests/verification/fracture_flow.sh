@@ -7,7 +7,7 @@
 #  - mass balance: every step, change of fracture volume + compressibility
 #    storage = injected volume Q dt, to 1e-10 relative;
 #  - storage-dominated injection into a plane strain fracture: mean pressure
-#    at t = 1 s against Sneddon's volume, p = E Q t / (2 pi (1 - nu^2) b^2),
+#    at t = 0.3 s against Sneddon's volume, p = E Q t / (2 pi (1 - nu^2) b^2),
 #    within 3 % (h = b/20), the error falling from h = b/10;
 #  - 1 vs 2 ranks: pressure and opening to 1e-8;
 #  - storage-dominated injection into a penny-shaped fracture (quarter model,
@@ -58,9 +58,14 @@ check() {  # label, command...
   if r=$("$@" 2>&1); then ok "$label: $r"; else ko "$label: $r"; fi
 }
 Q=2.9452e-5
-deck inj2 tests/decks/flow_injection.nml
-deck inj1 tests/decks/flow_injection.nml
-deck coarse tests/decks/flow_injection.nml -e "s#nx = 110, ny = 80#nx = 80, ny = 60#" -e "s#core_n = 48, 10#core_n = 24, 6#"
+# three steps to t = 0.3 s: the problem is linear once the crack is open
+# (pressure, opening and storage all grow as t), so the relative error at
+# 0.3 s is the deck's at 1 s; each step costs two factorizations of 2 s
+short=(-e "s#t_end = 1.0#t_end = 0.3#")
+deck inj2 tests/decks/flow_injection.nml "${short[@]}"
+deck inj1 tests/decks/flow_injection.nml "${short[@]}"
+deck coarse tests/decks/flow_injection.nml "${short[@]}" -e "s#nx = 110, ny = 80#nx = 80, ny = 60#" \
+  -e "s#core_n = 48, 10#core_n = 24, 6#"
 if run inj2 2; then
   check "mass balance every step (1e-10)" $PY tests/verification/check_flow.py mass "$out/inj2" $Q 1e-10
   check "injection pressure vs Sneddon's volume, h = b/20 (3 %)" $PY tests/verification/check_flow.py \
