@@ -60,7 +60,7 @@ check() {  # label, command...
 Q=2.9452e-5
 # three steps to t = 0.3 s: the problem is linear once the crack is open
 # (pressure, opening and storage all grow as t), so the relative error at
-# 0.3 s is the deck's at 1 s; each step costs two factorizations of 2 s
+# 0.3 s is the deck's at 1 s; each step costs about 2 s of MUMPS factorizations
 short=(-e "s#t_end = 1.0#t_end = 0.3#")
 deck inj2 tests/decks/flow_injection.nml "${short[@]}"
 deck inj1 tests/decks/flow_injection.nml "${short[@]}"
