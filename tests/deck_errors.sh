@@ -27,7 +27,8 @@ one_case() {
   local name=$1 np=$2 deck=$3 expect=$4 out rc nerr strays
   touch "$stamp"
   # shellcheck disable=SC2086
-  out=$(timeout 120 mpirun --oversubscribe -np "$np" "$exe" $deck 2> "$errf" < /dev/null)
+  out=$(OMPI_MCA_orte_tmpdir_base=$ompi_dir timeout 120 mpirun --oversubscribe -np "$np" "$exe" $deck \
+        2> "$errf" < /dev/null)
   rc=$?
   out="$out"$'\n'"$(cat "$errf")"
   if [ "$rc" -eq 124 ]; then
@@ -56,10 +57,16 @@ one_case() {
   echo "  ok    $name ($np ranks): $(grep -m1 -F -- "$expect" <<< "$out" | cut -c1-150)"
 }
 # check: the same, in the background, two cases at a time (most of a case
-# is mpirun's start-up); collect waits for them and counts, in order
+# is mpirun's start-up); collect waits for them and counts, in order. Each
+# case has its own Open MPI session directory: in the shared default one,
+# /tmp/ompi.<host>.<uid>, a job that ends removes the tree another job is
+# creating its directory in ("A call to mkdir was unable to create the
+# desired directory", exit 1; Open MPI 4.x, open-mpi/ompi#8510)
 check() {
   n_case=$((n_case + 1))
-  ( errf=$work/$n_case.err stamp=$work/$n_case.stamp one_case "$@" > "$work/$n_case.out" 2>&1 ) &
+  mkdir -p "$work/$n_case.ompi"
+  ( errf=$work/$n_case.err stamp=$work/$n_case.stamp ompi_dir=$work/$n_case.ompi one_case "$@" \
+      > "$work/$n_case.out" 2>&1 ) &
   while [ "$(jobs -rp | wc -l)" -ge 2 ]; do wait -n; done
 }
 collected=0
