@@ -48,9 +48,12 @@
 !>                               Elasticity and Biot default to chebyshev
 !>                               instead (simulation read_common's
 !>                               default_relax): hypre's degree-2 polynomial
-!>                               in the diagonally scaled matrix streams the
-!>                               rows where Gauss-Seidel waits on each row's
-!>                               predecessor. Mandel at the seed's size
+!>                               in the diagonally scaled matrix streams at
+!>                               65-76 % of the triad bandwidth, hypre's
+!>                               Gauss-Seidel kernel at 34-45 % (its own
+!>                               overhead: tools/gs_sweep.f90 shows the
+!>                               order costs a plain sweep nothing).
+!>                               Mandel at the seed's size
 !>                               (2026-12-02, gamma 0.15, 1, 100): 29, 26,
 !>                               19 FGMRES iterations against 31, 29, 21 on
 !>                               2 ranks, set-up + solve 0.81-0.95x (1 rank
