@@ -66,8 +66,9 @@
 !>                  an update that changed a status, the first of a step
 !>                  after a step that did): its statuses are a guess, and
 !>                  digits beyond moving_rtol decide nothing; after the
-!>                  statuses settled (physics 'contact': with a fluid they
-!>                  solve to rtol), Eisenstat and Walker's forcing term
+!>                  statuses settled (with the matrix's fluid, physics
+!>                  'poromechanics_faults', they solve to rtol), Eisenstat and
+!>                  Walker's forcing term
 !>                  between &solver rtol and moving_rtol (newton_loop's
 !>                  solve_rtol). The step's convergence is judged on the
 !>                  residual as always. 0: rtol throughout (the exact Newton
@@ -250,7 +251,7 @@ contains
     call g%add('moving_rtol', self%moving_rtol, '-', 'FGMRES: relative tolerance of the solve of a Newton '// &
                'iteration that may still move the active set (each after an update that changed a status, the '// &
                'first of a step after one that did); once statuses settle, Eisenstat-Walker forcing down to '// &
-               '&solver rtol (0: rtol throughout, the exact loop)', '[0, 1)')
+               '&solver rtol, but rtol with a fluid in the matrix (0: rtol throughout, the exact loop)', '[0, 1)')
     call g%add('max_cuts', self%max_cuts, '-', 'halvings of a step whose Newton loop does not converge: its '// &
                'sub-steps may be down to dt / 2^max_cuts (they grow back after two easy ones) before the run stops', &
                '>= 0')

@@ -129,6 +129,7 @@ contains
       end if
       rtol = solve_rtol(sim, it, self%ls%is_direct(), ratio_prev)
       call self%ls%set_rtol(rtol)
+      sim%last_solve_rtol = rtol
       call self%solve_linear(sim, log, timers, step, t, it, rtol, stats, its, stalled, why)
       if (len_trim(why) > 0) then
         cut_helps = it > 1 .or. (sim%transient .and. dt > 0.0_rp)
@@ -149,8 +150,9 @@ contains
   !> huge if none). With the physics' moving_rtol > 0: an iteration that
   !> may still move an active set solves to moving_rtol (its statuses are a
   !> guess, and digits beyond that decide nothing); once the statuses
-  !> settled, with the physics' settled_forcing (not with a fluid, whose
-  !> pressure error the residual does not bound), Eisenstat and Walker's
+  !> settled, with the physics' settled_forcing (not with the matrix's
+  !> fluid, whose pressure error the residual does not bound; with the
+  !> fractures' fluid its update test bounds it), Eisenstat and Walker's
   !> second forcing term (SIAM J. Sci.
   !> Comput. 17 (1996) 16: 0.9 (r_k / r_k-1)^2, r the residual_ratio of
   !> check_residual: the worst field's residual over its tolerance), but at

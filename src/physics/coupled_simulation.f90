@@ -763,7 +763,13 @@ contains
   !> fractures' pressure where a small storage holds it, nor of the opening
   !> it drives, so the last update of those fields, Newton's estimate of the
   !> previous iterate's error, must be below sqrt(newton_tol), so that this
-  !> iterate's is near newton_tol. (The reduced nine fractures, FGMRES at
+  !> iterate's is near newton_tol. When the last solve stopped above the
+  !> deck's rtol (the forcing term of settled iterations), Newton converges
+  !> linearly, not quadratically: the update must then be below newton_tol
+  !> itself, which bounds this iterate's error where the iteration
+  !> contracts by at least half. (With the quadratic bound the seed's nine
+  !> fractures at 4 m under the forcing term differed from MUMPS by 3.7e-6
+  !> in pressure and 9.4e-6 in opening; with this one within 1e-6.) (The reduced nine fractures, FGMRES at
   !> rtol 1e-10 against MUMPS, differed by 1.5e-6 in pressure and 4.3e-6 in
   !> opening when the residual alone decided, and still so with the
   !> pressure's update alone. Not without the fluid: a fault block held
@@ -775,9 +781,16 @@ contains
     logical, intent(inout) :: converged
     character(len=*), intent(inout) :: why
     character(len=msg_len) :: what, piece
-    real(rp) :: largest
+    character(len=16) :: bound
+    real(rp) :: largest, limit
     integer :: k, j
     if (.not. converged .or. self%solver%method == 'mumps') return
+    limit = sqrt(self%ctx%newton_tol)
+    bound = 'sqrt(newton_tol)'
+    if (self%last_solve_rtol > self%solver%rtol) then
+      limit = self%ctx%newton_tol
+      bound = 'newton_tol'
+    end if
     do k = 1, size(self%slots)
       if (.not. allocated(self%slots(k)%c%update_test)) cycle
       largest = 0.0_rp
@@ -790,9 +803,9 @@ contains
           what = trim(what)//' '//trim(piece)
         end associate
       end do
-      if (.not. (largest > sqrt(self%ctx%newton_tol))) cycle
+      if (.not. (largest > limit)) cycle
       converged = .false.
-      write(piece, '(a,es9.2)') ' > sqrt(newton_tol) = ', sqrt(self%ctx%newton_tol)
+      write(piece, '(a,es9.2)') ' > '//trim(bound)//' = ', limit
       why = trim(why)//', the last update (Krylov) '//trim(adjustl(what))//trim(piece)
     end do
   end subroutine update_check

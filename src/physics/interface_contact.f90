@@ -244,10 +244,14 @@ contains
       sim%max_cuts = self%ccfg%max_cuts
       sim%residual_test = .true.
       sim%moving_rtol = self%ccfg%moving_rtol
-      ! with a fluid the residual alone does not bound the pressure's error
-      ! (coupled_simulation's check_residual): its settled iterations solve
-      ! to rtol
-      sim%settled_forcing = .not. fluid
+      ! with the matrix's fluid the residual alone does not bound the
+      ! pressure's error (coupled_simulation's check_residual): its settled
+      ! iterations solve to rtol. The fractures' fluid has an update test
+      ! that holds after inexact solves too (update_check), so its settled
+      ! iterations take the forcing term: the seed's nine fractures at 4 m,
+      ! 419 FGMRES iterations against 589, 27 Newton iterations against 24,
+      ! the fields within 1e-6 of MUMPS's
+      sim%settled_forcing = .not. matrix
       ctx%newton_tol = self%ccfg%newton_tol
       if (sim%solver%method == 'cg') then
         call status%set("deck '"//trim(d%path)//"', group &solver, variable method: "// &

@@ -114,6 +114,9 @@ module simulation
     !> with moving_rtol: the settled iterations' solves by Eisenstat and
     !> Walker's forcing term (else to rtol)
     logical :: settled_forcing = .false.
+    !> the relative tolerance the Newton loop gave the last linear solve
+    !> (0 before the first): above the deck's rtol that solve was inexact
+    real(rp) :: last_solve_rtol = 0.0_rp
     integer :: max_cuts = 0                                !< halvings of a step that does not converge
     type(geostatic_config_t) :: geo                        !< &geostatic (geo%on: the run starts in situ)
     logical :: initial_step = .false.                      !< a step 0 at t = 0 before any load (geostatic)
