@@ -17,6 +17,7 @@ HDF5_LIB := /usr/lib/x86_64-linux-gnu/hdf5/openmpi
 WARN := -std=f2008 -fimplicit-none -Wall -Wextra -Wno-unused-dummy-argument -Wno-compare-reals
 ifeq ($(BUILD),debug)
   FFLAGS := -O0 -g $(WARN) -fcheck=all -fbacktrace -ffpe-trap=invalid,zero,overflow -finit-real=snan
+  COPT := -O0 -g
   EXE_SUFFIX := -debug
 else
   # -O3: the CSR product (csr_matrix%apply's loop, tools/spmv.f90 on Mandel's
@@ -25,6 +26,7 @@ else
   # farm-bench medians of 7 and 3, with the residual histories bit for bit
   # those of -O2 (no reassociation without -ffast-math; x86-64-v2 has no FMA)
   FFLAGS := -O3 -g -march=x86-64-v2 $(WARN)
+  COPT := -O3 -g -march=x86-64-v2
   EXE_SUFFIX :=
 endif
 
@@ -32,6 +34,10 @@ BDIR := build/$(BUILD)
 ODIR := $(BDIR)/obj
 MDIR := $(BDIR)/mod
 INC := -I$(HDF5_INC) -I/usr/include -J$(MDIR) -I$(MDIR)
+# the few C files (modules/bindings: what hypre reaches only through its
+# internal header) are compiled with the MPI C compiler
+CC := mpicc
+CFLAGS := $(COPT) -std=gnu11 -Wall -Wextra -Wno-unused-parameter -I/usr/include/hypre
 LIBS := -L$(HDF5_LIB) -lhdf5_fortran -lhdf5 -lHYPRE -ldmumps -lmumps_common -lpord \
         -lscalapack-openmpi -lmetis -llapack -lblas
 
@@ -39,18 +45,20 @@ LIBS := -L$(HDF5_LIB) -lhdf5_fortran -lhdf5 -lHYPRE -ldmumps -lmumps_common -lpo
 # no hand-kept file list. File names are unique across the tree.
 MAIN_SRC := src/drivers/geoblock.f90
 LIB_SRC := $(sort $(filter-out $(MAIN_SRC),$(shell find modules src -name '*.f90')))
+LIB_C_SRC := $(sort $(shell find modules src -name '*.c'))
 TEST_COMMON := $(sort $(shell find tests/common -name '*.f90'))
 TEST_SRC := $(sort $(shell find tests -name 'test_*.f90'))
 ALL_SRC := $(LIB_SRC) $(TEST_COMMON) $(TEST_SRC) $(MAIN_SRC)
 
 obj = $(addprefix $(ODIR)/,$(notdir $(1:.f90=.o)))
-LIB_OBJ := $(call obj,$(LIB_SRC))
+LIB_OBJ := $(call obj,$(LIB_SRC)) $(addprefix $(ODIR)/,$(notdir $(LIB_C_SRC:.c=.o)))
 TEST_COMMON_OBJ := $(call obj,$(TEST_COMMON))
 TEST_BIN := $(addprefix bin/tests/,$(notdir $(TEST_SRC:.f90=$(EXE_SUFFIX))))
 LIBGB := $(BDIR)/libgeoblock.a
 EXE := bin/geoblock$(EXE_SUFFIX)
 
 vpath %.f90 $(sort $(dir $(ALL_SRC)))
+vpath %.c $(sort $(dir $(LIB_C_SRC)))
 
 .PHONY: all debug tests run test bench bench-large deps clean help reference images
 .DEFAULT_GOAL := all
@@ -83,6 +91,9 @@ $(LIBGB): $(LIB_OBJ)
 
 $(ODIR)/%.o: %.f90 | $(ODIR) $(MDIR)
 	$(FC) $(FFLAGS) $(INC) -c $< -o $@
+
+$(ODIR)/%.o: %.c | $(ODIR)
+	$(CC) $(CFLAGS) -c $< -o $@
 
 $(BDIR)/deps.mk: $(ALL_SRC) tools/fdeps.sh | $(ODIR)
 	@bash tools/fdeps.sh $(ODIR) $(ALL_SRC) > $@

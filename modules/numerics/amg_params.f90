@@ -169,6 +169,10 @@ module amg_params
     !> strength threshold, at least, of the displacement block's AMG on a
     !> slab with flat cells (for_slab); 0: as strong_threshold
     real(rp) :: slab_threshold = 0.8_rp
+    !> the code that runs the cycle: 'geoblock' (amg_cycle.c over hypre's
+    !> hierarchy, for l1-gs V-cycles in lexicographic order with unit
+    !> weights; hypre's own cycle for every other setting) or 'hypre'
+    character(len=name_len) :: cycle_code = 'geoblock'
   contains
     procedure :: validate
     procedure :: to_lines
@@ -273,6 +277,8 @@ contains
       call bad_real('relax_wt', self%relax_wt, 'a real in (0, 2)')
     else if (self%print_level < 0 .or. self%print_level > 3) then
       call bad_int('print_level', self%print_level, 'an integer in 0..3')
+    else if (lower(self%cycle_code) /= 'geoblock' .and. lower(self%cycle_code) /= 'hypre') then
+      call bad_name('cycle_code', self%cycle_code, 'geoblock, hypre')
     else if (.not. (self%slab_threshold >= 0.0_rp .and. self%slab_threshold < 1.0_rp)) then
       call bad_real('slab_threshold', self%slab_threshold, 'a real in [0, 1) (0: as strong_threshold)')
     end if
@@ -310,7 +316,7 @@ contains
   subroutine to_lines(self, lines)
     class(amg_params_t), intent(in) :: self
     character(len=amg_line_len), allocatable, intent(out) :: lines(:)
-    allocate(lines(23))
+    allocate(lines(24))
     lines(1) = int_line('num_functions', self%num_functions)
     lines(2) = int_line('nodal', self%nodal)
     lines(3) = 'coarsen_type = '//trim(self%coarsen_type)
@@ -334,6 +340,7 @@ contains
     lines(21) = int_line('interp_vec_qmax', self%interp_vec_qmax)
     lines(22) = 'slab_threshold = '//real_text(self%slab_threshold)
     lines(23) = 'relax_order = '//trim(self%relax_order)
+    lines(24) = 'cycle_code = '//trim(self%cycle_code)
   end subroutine to_lines
 
   !> hypre id of coarsen_type, or -1 when the name is unknown.

@@ -12,7 +12,7 @@
 !> gets them explicitly (HYPRE_BoomerAMGSetDofFunc) so that the mapping does
 !> not depend on how rows are split among ranks.
 module boomeramg_precon
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_f_pointer, &
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_int, c_null_ptr, c_associated, c_f_pointer, &
     c_size_t, c_sizeof, c_loc
   use kinds, only: rp, ip, gp, hypre_int, name_len, msg_len
   use parallel_comm, only: parallel_comm_t, wall_time
@@ -21,7 +21,9 @@ module boomeramg_precon
   use precon, only: precon_t
   use amg_params, only: amg_params_t, amg_line_len
   use hypre_ij, only: hypre_ij_t, ij_rows_t, hypre_check
+  use amg_cycle_c, only: gb_amg_cycle_fits, gb_amg_cycle
   use index_map, only: index_map_t
+  use strings, only: lower
   use hypre_c, only: HYPRE_MEMORY_HOST, HYPRE_BoomerAMGSetRelaxOrder, HYPRE_ClearAllErrors, HYPRE_GetError, hypre_CAlloc, &
     HYPRE_BoomerAMGCreate, HYPRE_BoomerAMGDestroy, HYPRE_BoomerAMGSetup, HYPRE_BoomerAMGSolve, &
     HYPRE_BoomerAMGGetGridHierarchy, HYPRE_BoomerAMGSetTol, HYPRE_BoomerAMGSetMaxIter, &
@@ -56,6 +58,7 @@ module boomeramg_precon
     integer :: num_levels = 0
     integer(gp), allocatable :: level_rows(:)      !< (num_levels) global rows per level, finest first
     real(rp) :: grid_complexity = 0.0_rp           !< sum of level rows / fine rows
+    logical :: own_cycle = .false.                 !< apply runs amg_cycle.c's V-cycle (set per set-up)
   contains
     procedure :: setup
     procedure :: setup_rows
@@ -307,6 +310,11 @@ contains
     end if
     ierr = HYPRE_BoomerAMGSetup(self%solver, self%ij%par_a, self%ij%par_b, self%ij%par_x)
     call hypre_check(self%comm, HYPRE_GetError(), 'boomeramg_precon: BoomerAMG set-up', status)
+    ! geoblock's cycle where it reproduces hypre's (amg_cycle.c), decided
+    ! alike on every rank
+    self%own_cycle = .false.
+    if (status%ok() .and. lower(p%cycle_code) == 'geoblock') &
+      self%own_cycle = .not. self%comm%any_true(gb_amg_cycle_fits(self%solver) /= 1_c_int)
     ! the sizes of the previous hierarchy no longer hold
     self%num_levels = 0
     if (allocated(self%level_rows)) deallocate(self%level_rows)
@@ -409,8 +417,12 @@ contains
     if (.not. c_associated(self%solver)) error stop 'boomeramg_precon%apply: setup() was not called'
     ierr = HYPRE_ClearAllErrors()
     call self%ij%set_rhs(r)
-    call self%ij%zero_x()
-    ierr = HYPRE_BoomerAMGSolve(self%solver, self%ij%par_a, self%ij%par_b, self%ij%par_x)
+    if (self%own_cycle) then
+      ierr = int(gb_amg_cycle(self%solver, self%ij%par_b, self%ij%par_x), hypre_int)
+    else
+      call self%ij%zero_x()
+      ierr = HYPRE_BoomerAMGSolve(self%solver, self%ij%par_a, self%ij%par_b, self%ij%par_x)
+    end if
     call self%ij%get_x(z, ierr)
     if (ierr /= 0) self%apply_errors = self%apply_errors + 1
   end subroutine amg_apply

@@ -5,7 +5,7 @@
 !>   agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths,
 !>   strong_threshold, max_row_sum, max_levels, max_coarse_size, relax_type,
 !>   relax_order, num_sweeps, relax_wt, print_level, cycle_type,
-!>   interp_vec_variant, interp_vec_qmax, slab_threshold
+!>   interp_vec_variant, interp_vec_qmax, slab_threshold, cycle_code
 !> slab_threshold (a real in [0, 1), default 0.8; 0: as strong_threshold): on
 !> a slab with flat cells (a plane-strain mesh one or a few cells thick,
 !> found from the mesh: src/discretization/slab_geometry.f90), the strength
@@ -35,7 +35,8 @@ contains
     type(error_status_t), intent(inout) :: status
     integer :: num_functions, nodal, p_max_elmts, agg_num_levels, agg_p_max_elmts, num_paths, &
                max_levels, max_coarse_size, num_sweeps, print_level, interp_vec_variant, interp_vec_qmax, ios
-    character(len=name_len) :: coarsen_type, interp_type, agg_interp_type, relax_type, cycle_type, relax_order
+    character(len=name_len) :: coarsen_type, interp_type, agg_interp_type, relax_type, cycle_type, relax_order, &
+                               cycle_code
     real(rp) :: trunc_factor, strong_threshold, max_row_sum, relax_wt, slab_threshold
     type(error_status_t) :: vstat
     character(len=msg_len) :: msg
@@ -43,7 +44,7 @@ contains
     namelist /amg/ num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor, &
                    agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths, strong_threshold, &
                    max_row_sum, max_levels, max_coarse_size, relax_type, num_sweeps, relax_wt, print_level, &
-                   interp_vec_variant, interp_vec_qmax, cycle_type, slab_threshold, relax_order
+                   interp_vec_variant, interp_vec_qmax, cycle_type, slab_threshold, relax_order, cycle_code
 
     num_functions = params%num_functions; nodal = params%nodal; coarsen_type = params%coarsen_type
     interp_type = params%interp_type; p_max_elmts = params%p_max_elmts; trunc_factor = params%trunc_factor
@@ -54,6 +55,7 @@ contains
     num_sweeps = params%num_sweeps; relax_wt = params%relax_wt; print_level = params%print_level
     interp_vec_variant = params%interp_vec_variant; interp_vec_qmax = params%interp_vec_qmax
     cycle_type = params%cycle_type; slab_threshold = params%slab_threshold; relax_order = params%relax_order
+    cycle_code = params%cycle_code
     if (d%count('amg') > 0) then
       call d%block('amg', 1, b)
       read(b, nml=amg, iostat=ios, iomsg=msg)
@@ -69,7 +71,7 @@ contains
       max_levels=max_levels, max_coarse_size=max_coarse_size, relax_type=relax_type, relax_order=relax_order, &
       num_sweeps=num_sweeps, relax_wt=relax_wt, print_level=print_level, &
       interp_vec_variant=interp_vec_variant, interp_vec_qmax=interp_vec_qmax, cycle_type=cycle_type, &
-      slab_threshold=slab_threshold)
+      slab_threshold=slab_threshold, cycle_code=cycle_code)
     call params%validate(vstat)
     if (.not. vstat%ok()) then
       write(msg, '(a,i0,a)') "deck '"//trim(d%path)//"', group &amg (line ", d%first_line('amg', 1), "): "// &
@@ -119,6 +121,10 @@ contains
                'K (and S*): 0 none, 1, 2 GM, 3 LN', '0..3; 0 when nodal = 0')
     call g%add('interp_vec_qmax', params%interp_vec_qmax, '-', 'entries per row of the added columns (0: all)', &
                '0..100')
+    call g%add('cycle_code', params%cycle_code, '-', "the code that runs the cycle: geoblock's over hypre's "// &
+               "hierarchy (l1-gs V-cycles, lexicographic order, unit weights; its backward sweep reads memory "// &
+               "downwards: half the solve time of hypre's on elasticity), hypre's own for other settings", &
+               "'geoblock' or 'hypre'")
     call g%add('slab_threshold', params%slab_threshold, '-', 'strength threshold, at least, of the displacement '// &
                'block (K, S*) on a slab with flat cells (found from the mesh; 0: as strong_threshold)', '[0, 1)')
   end subroutine describe_amg_config
