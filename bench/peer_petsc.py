@@ -17,8 +17,9 @@ PETSc's 'selfp' (A11 - A10 diag(A00)^-1 A01, assembled), and so on down the
 blocks; full factorization at every level. Each single block is solved by
 one BoomerAMG V-cycle with our own default settings (HMIS, ext+i with at
 most 6 entries, one aggressive level, strong threshold 0.5, the smoother
-geoblock's physics takes (--smoother: Chebyshev for Biot's u, q, p, else
-l1-Gauss-Seidel in the rows' order); three functions for the displacement,
+geoblock's physics takes (--smoother: l1-Gauss-Seidel in the rows' order;
+Chebyshev for Biot's u, q, p, PETSc's faster one there); three functions
+for the displacement,
 whose rows come in whole nodes),
 except the flux q and the traction t blocks (a mass matrix, a stabilization),
 by Jacobi. Blocks given together with --group (e.g. pm,p: the matrix and
@@ -66,7 +67,11 @@ AMG = {
 # the smoothers as ours (modules/numerics/amg_params.f90): l1 Gauss-Seidel
 # forward down, backward up, rows in their order (PETSc's default is the C/F
 # order), or hypre's Chebyshev; the coarsest level by Gaussian elimination.
-# Biot's systems (u, q, p) default to Chebyshev, as geoblock's 'biot' does.
+# Biot's systems (u, q, p) default to Chebyshev: geoblock's l1 Gauss-Seidel
+# runs in its own cycle (amg_cycle.c), whose backward sweep reads memory
+# downwards; PETSc's reaches hypre's own, whose backward sweep does not,
+# and there Chebyshev was the faster of the two (Mandel at the seed's size,
+# set-up + solve 0.81-0.95x, 2026-12-02), so the peer keeps its best.
 SMOOTHERS = {
     "l1-gs": {"pc_hypre_boomeramg_relax_type_down": "l1-Gauss-Seidel",
               "pc_hypre_boomeramg_relax_type_up": "backward-l1-Gauss-Seidel",
@@ -215,8 +220,8 @@ def main():
                     help="blocks to split together, comma separated ('pm,p' by default when both are exported; "
                          "'none': every block alone)")
     ap.add_argument("--smoother", choices=sorted(SMOOTHERS), default=None,
-                    help="BoomerAMG's smoother (default: geoblock's for the physics, 'chebyshev' for u,q,p, "
-                         "else 'l1-gs')")
+                    help="BoomerAMG's smoother (default: 'chebyshev' for u,q,p, hypre's faster there, "
+                         "else 'l1-gs', geoblock's)")
     args = ap.parse_args()
     comm = PETSc.COMM_WORLD
     n, coo, b, blk, names = load(args.stem)

@@ -44,25 +44,27 @@
 !>                               iterations, 0.8 took 21, 23, 25, 27 with grid
 !>                               complexity 1.45 instead of 1.33 and ~30% more
 !>                               solve time, 0.25 took 25, 29, 31.
-!>   l1-gs, 1 sweep            : hypre's default smoother, robust in parallel.
-!>                               Elasticity and Biot default to chebyshev
-!>                               instead (simulation read_common's
-!>                               default_relax): hypre's degree-2 polynomial
-!>                               in the diagonally scaled matrix streams at
-!>                               65-76 % of the triad bandwidth, hypre's
-!>                               Gauss-Seidel kernel at 34-45 % (its own
-!>                               overhead: tools/gs_sweep.f90 shows the
-!>                               order costs a plain sweep nothing).
-!>                               Mandel at the seed's size
-!>                               (2026-12-02, gamma 0.15, 1, 100): 29, 26,
-!>                               19 FGMRES iterations against 31, 29, 21 on
-!>                               2 ranks, set-up + solve 0.81-0.95x (1 rank
-!>                               0.82-0.86x); its elastic CG 15 against 16,
-!>                               solve 0.67-0.78x. Contact and the fluid in
-!>                               the fractures keep l1-gs: the eigenvalue
-!>                               estimates made the nine fractures' S**
-!>                               set-up 4.8 s against 3.7 s a Newton
-!>                               iteration for the same solve.
+!>   l1-gs, 1 sweep            : hypre's default smoother, robust in parallel,
+!>                               run by geoblock's cycle (cycle_code
+!>                               'geoblock', amg_cycle.c): hypre 2.26's
+!>                               backward sweep reads each row upwards while
+!>                               it walks the rows down, against the
+!>                               hardware prefetch, and took 5x its forward
+!>                               sweep's time; ours reads that sweep
+!>                               downwards. With it l1-gs is the default of
+!>                               every physics again (2026-12-04, 2 ranks,
+!>                               single runs): the clamped cube at n = 64,
+!>                               CG, 26 iterations and a solve of 4.4 s
+!>                               against Chebyshev's 25 and 5.8 s (1 rank:
+!>                               23 and 5.3-5.7 s against 23 and 11.1 s);
+!>                               Mandel at the seed's size (gamma 0.15, 1,
+!>                               100) 31, 29, 21 FGMRES iterations against
+!>                               Chebyshev's 29, 26, 19, set-up + solve
+!>                               1.7-2.1, 1.8, 1.5 s against 2.3-3.1, 2.2,
+!>                               1.7-2.1 s. Chebyshev (2026-12-02 to -04
+!>                               elasticity's and Biot's default) streams
+!>                               at 65-76 % of the triad but costs hypre's
+!>                               eigenvalue estimates in every set-up.
 !>   relax_order lexicographic : the Gauss-Seidel sweeps run through the rows
 !>                               once, in their order, rather than hypre's
 !>                               C-then-F order, which walks every level's

@@ -108,8 +108,7 @@ contains
     call g%add('max_row_sum', params%max_row_sum, '-', 'weakens diagonally dominant rows (1: off)', '(0, 1]')
     call g%add('max_levels', params%max_levels, '-', 'largest number of levels', '1..100')
     call g%add('max_coarse_size', params%max_coarse_size, '-', 'rows of the coarsest level', '>= 1')
-    call g%add('relax_type', params%relax_type, '-', "smoother (every one symmetric: fit for CG); "// &
-               "physics 'elasticity' and 'biot' default to 'chebyshev'", &
+    call g%add('relax_type', params%relax_type, '-', "smoother (every one symmetric: fit for CG)", &
                "'jacobi', 'hybrid-gs', 'hybrid-sgs', 'l1-sgs', 'l1-gs', 'chebyshev' or 'l1-jacobi'")
     call g%add('relax_order', params%relax_order, '-', 'order of the Gauss-Seidel sweeps: the rows in their '// &
                "order, or hypre's C points then F points", "'lexicographic' or 'cf'")

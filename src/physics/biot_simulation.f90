@@ -89,8 +89,7 @@ contains
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     self%transient = .true.
-    call self%read_common(d, log, status, 'block', flow_conditions=.true., with_faults=.false., &
-      default_relax='chebyshev')
+    call self%read_common(d, log, status, 'block', flow_conditions=.true., with_faults=.false.)
     if (status%ok()) call self%bcfg%read(d, log, status)
     if (status%ok()) call read_sources(d, log, self%srcs, status)
     if (.not. status%ok()) return

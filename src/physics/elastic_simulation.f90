@@ -75,8 +75,7 @@ contains
     type(mesh_config_t), intent(in) :: mcfg
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
-    call self%read_common(d, log, status, 'boomeramg', flow_conditions=.false., with_faults=.false., &
-      default_relax='chebyshev')
+    call self%read_common(d, log, status, 'boomeramg', flow_conditions=.false., with_faults=.false.)
     if (.not. status%ok()) return
     if (self%solver%precon == 'block' .or. self%solver%precon == 'mgr') &
       call status%set("deck '"//trim(d%path)//"', group &solver, variable precon: '"//trim(self%solver%precon)// &

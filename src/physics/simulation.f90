@@ -270,18 +270,16 @@ contains
 
   !> Read the groups every physics shares: &material, &boundary (and their
   !> history files), &solver (default_precon: the precon a physics defaults
-  !> to), &amg (default_relax: the smoother a physics defaults to, else
-  !> amg_params'), &afsai and &block_fsai. flow_conditions: the physics has
+  !> to), &amg, &afsai and &block_fsai. flow_conditions: the physics has
   !> pressure and flux boundary conditions; with_faults: it uses &fault
   !> groups (others refuse them). Collective.
-  subroutine read_common(self, d, log, status, default_precon, flow_conditions, with_faults, default_relax)
+  subroutine read_common(self, d, log, status, default_precon, flow_conditions, with_faults)
     class(simulation_t), intent(inout) :: self
     type(deck_t), intent(in) :: d
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
     character(len=*), intent(in) :: default_precon
     logical, intent(in) :: flow_conditions, with_faults
-    character(len=*), intent(in), optional :: default_relax
     integer :: c
     call read_materials(d, log, self%mats, status)
     if (status%ok()) call read_boundaries(d, log, self%bcs, status)
@@ -289,7 +287,6 @@ contains
       self%solver%precon = default_precon
       call self%solver%read(d, log, status)
     end if
-    if (present(default_relax)) self%amg%relax_type = default_relax
     if (status%ok()) call read_amg_config(d, log, self%amg, status)
     if (status%ok()) call self%fsai%read(d, log, status)
     if (status%ok()) call load_histories(self%comm, self%bcs, status)
