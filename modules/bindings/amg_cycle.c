@@ -29,8 +29,13 @@
  * gb_amg_cycle(solver, par_b, par_x) x <- one V-cycle on A x = b from
  *                                    x = 0 (x is zeroed here); returns
  *                                    hypre's error flag
+ * gb_amg_refresh_fine(solver, par_a) the finest level becomes par_a (a
+ *                                    matrix of the same rows) with its l1
+ *                                    norms; the coarse levels stay (a
+ *                                    lagged hierarchy)
  */
 #include <stdlib.h>
+#include <string.h>
 #include <mpi.h>
 #include "_hypre_parcsr_ls.h"
 
@@ -220,5 +225,22 @@ int gb_amg_cycle(void *solver, void *par_b, void *par_x)
     hypre_ParCSRMatrixMatvec(1.0, P[l], U[l + 1], 1.0, U[l]);
     for (s = 0; s < sweeps[2]; s++) sweep(A[l], F[l], U[l], hypre_VectorData(l1[l]), -1);
   }
+  return hypre_error_flag;
+}
+
+int gb_amg_refresh_fine(void *solver, void *par_a)
+{
+  hypre_ParAMGData *amg = (hypre_ParAMGData *) solver;
+  hypre_ParCSRMatrix *A = (hypre_ParCSRMatrix *) par_a;
+  hypre_Vector *l1 = hypre_ParAMGDataL1Norms(amg)[0];
+  HYPRE_Real *norms = NULL;
+  HYPRE_Int n = hypre_CSRMatrixNumRows(hypre_ParCSRMatrixDiag(A));
+  if (n != hypre_VectorSize(l1)) return 1;
+  hypre_ParAMGDataAArray(amg)[0] = A;
+  if (hypre_ParCSRMatrixCommPkg(A) == NULL) hypre_MatvecCommPkgCreate(A);
+  /* the l1 norms hypre's set-up computes for relax types 13 and 14 */
+  hypre_ParCSRComputeL1Norms(A, 4, NULL, &norms);
+  memcpy(hypre_VectorData(l1), norms, sizeof(HYPRE_Real) * (size_t) n);
+  hypre_TFree(norms, HYPRE_MEMORY_HOST);
   return hypre_error_flag;
 }

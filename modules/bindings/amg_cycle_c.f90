@@ -5,7 +5,7 @@ module amg_cycle_c
   use, intrinsic :: iso_c_binding, only: c_ptr, c_int
   implicit none
   private
-  public :: gb_amg_cycle_fits, gb_amg_cycle
+  public :: gb_amg_cycle_fits, gb_amg_cycle, gb_amg_refresh_fine
 
   interface
     !> 1 when the set-up hierarchy of `solver` is one gb_amg_cycle
@@ -22,5 +22,13 @@ module amg_cycle_c
       type(c_ptr), value :: solver, b, x
       integer(c_int) :: ierr
     end function gb_amg_cycle
+
+    !> The finest level of solver's hierarchy becomes a (same rows), with
+    !> its l1 norms; the coarse levels stay. 0 on success.
+    function gb_amg_refresh_fine(solver, a) bind(C, name='gb_amg_refresh_fine') result(ierr)
+      import :: c_ptr, c_int
+      type(c_ptr), value :: solver, a
+      integer(c_int) :: ierr
+    end function gb_amg_refresh_fine
   end interface
 end module amg_cycle_c

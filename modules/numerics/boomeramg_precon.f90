@@ -21,7 +21,7 @@ module boomeramg_precon
   use precon, only: precon_t
   use amg_params, only: amg_params_t, amg_line_len
   use hypre_ij, only: hypre_ij_t, ij_rows_t, hypre_check
-  use amg_cycle_c, only: gb_amg_cycle_fits, gb_amg_cycle
+  use amg_cycle_c, only: gb_amg_cycle_fits, gb_amg_cycle, gb_amg_refresh_fine
   use index_map, only: index_map_t
   use strings, only: lower
   use hypre_c, only: HYPRE_MEMORY_HOST, HYPRE_BoomerAMGSetRelaxOrder, HYPRE_ClearAllErrors, HYPRE_GetError, hypre_CAlloc, &
@@ -64,6 +64,7 @@ module boomeramg_precon
     procedure :: setup_rows
     procedure :: update
     procedure :: update_rows
+    procedure :: refresh_rows
     procedure :: matrix_product
     procedure :: apply => amg_apply
     procedure :: name => amg_name
@@ -162,6 +163,27 @@ contains
     type(error_status_t), intent(inout) :: status
     call renew(self, 'update_rows', status, src=src)
   end subroutine update_rows
+
+  !> A lagged update (geoblock's cycle only; otherwise update_rows): hypre's
+  !> copy of the matrix anew from src (the same rows), and the hierarchy's
+  !> finest level on it, with its l1 norms; the coarse levels stay those of
+  !> the last set-up. Collective; setup_time is the time of this refresh.
+  subroutine refresh_rows(self, src, status)
+    class(boomeramg_precon_t), intent(inout), target :: self
+    class(ij_rows_t), intent(in) :: src
+    type(error_status_t), intent(inout) :: status
+    real(rp) :: t0
+    if (.not. self%own_cycle) then
+      call self%update_rows(src, status)
+      return
+    end if
+    t0 = wall_time()
+    call self%ij%rebuild_rows(src, status)
+    if (.not. status%ok()) return
+    call hypre_check(self%comm, int(gb_amg_refresh_fine(self%solver, self%ij%par_a), hypre_int), &
+                     'boomeramg_precon: the finest level of a lagged hierarchy', status)
+    self%setup_time = wall_time() - t0
+  end subroutine refresh_rows
 
   !> New values of the matrix given to setup() (same pattern): copy them and
   !> rebuild the hierarchy with the same settings. Collective; setup_time is

@@ -85,6 +85,11 @@
 !>                  Jacobian is then the same, so the iterations are too and
 !>                  the set-up is saved; rebuilt at every Newton iteration
 !>                  otherwise                                         [.true.]
+!>   amg_lag        FGMRES with 'reordered': the BoomerAMG hierarchy of S*
+!>                  (S**) is built anew every amg_lag Newton iterations;
+!>                  in between only its finest level takes the new S*
+!>                  (values and l1 norms; geoblock's cycle only), its
+!>                  coarse levels are those of the last build, 1..100   [1]
 module contact_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -116,6 +121,7 @@ module contact_config
     real(rp) :: moving_rtol = 1.0e-3_rp
     integer :: max_cuts = 8
     logical :: reuse = .true.
+    integer :: amg_lag = 1
   contains
     procedure :: read => read_contact_config
     procedure :: resolve_schur_solve
@@ -132,12 +138,12 @@ contains
     type(error_status_t), intent(inout) :: status
     character(len=name_len) :: space, stabilization, block, schur_precon, schur_solve
     real(rp) :: aug_scale, newton_tol, status_tol, open_fraction, moving_rtol, close_ratio
-    integer :: max_newton, max_cuts, schur_its, ios
+    integer :: max_newton, max_cuts, schur_its, amg_lag, ios
     logical :: reuse
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     namelist /contact/ space, stabilization, block, schur_precon, aug_scale, schur_solve, schur_its, max_newton, &
-                       newton_tol, status_tol, open_fraction, moving_rtol, max_cuts, reuse, close_ratio
+                       newton_tol, status_tol, open_fraction, moving_rtol, max_cuts, reuse, close_ratio, amg_lag
 
     ! stabilization and block: '' until the deck sets them (their defaults
     ! follow the space)
@@ -145,6 +151,7 @@ contains
     aug_scale = self%aug_scale; schur_solve = self%schur_solve; max_newton = self%max_newton; newton_tol = self%newton_tol
     status_tol = self%status_tol; max_cuts = self%max_cuts; reuse = self%reuse; schur_its = self%schur_its
     open_fraction = self%open_fraction; moving_rtol = self%moving_rtol; close_ratio = self%close_ratio
+    amg_lag = self%amg_lag
     if (d%count('contact') > 0) then
       call d%block('contact', 1, b)
       read(b, nml=contact, iostat=ios, iomsg=msg)
@@ -188,7 +195,10 @@ contains
     if (.not. (close_ratio >= 0.0_rp .and. close_ratio < 1.0_rp)) call d%fail(status, 'contact', 1, &
       'close_ratio', 'must lie in [0, 1) (got '//rtoa(close_ratio)//')')
     if (max_cuts < 0) call d%fail(status, 'contact', 1, 'max_cuts', 'must be >= 0 (got '//itoa(max_cuts)//')')
+    if (amg_lag < 1 .or. amg_lag > 100) call d%fail(status, 'contact', 1, 'amg_lag', &
+      'must lie in 1..100 (got '//itoa(amg_lag)//')')
     if (.not. status%ok()) return
+    self%amg_lag = amg_lag
     self%open_fraction = open_fraction; self%moving_rtol = moving_rtol; self%close_ratio = close_ratio
     self%space = space; self%stabilization = stabilization; self%block = block; self%schur_precon = schur_precon
     self%aug_scale = aug_scale; self%schur_solve = schur_solve; self%max_newton = max_newton; self%newton_tol = newton_tol
@@ -257,5 +267,8 @@ contains
                '>= 0')
     call g%add('reuse', self%reuse, '-', "FGMRES: keep the preconditioner's Schur part (S* and its AMG, S_p) "// &
                'while every element sticks, as when it was built')
+    call g%add('amg_lag', self%amg_lag, '-', "FGMRES with 'reordered': the BoomerAMG hierarchy of S* (S**) is "// &
+               'built anew every amg_lag Newton iterations; in between its finest level takes the new S* '// &
+               "(geoblock's cycle only)", '1..100')
   end subroutine describe_contact_config
 end module contact_config

@@ -137,6 +137,7 @@ module contact_precon
     logical :: ready = .false.
     integer, allocatable :: built_state(:)       !< owned statuses when the Schur part was built (&contact reuse)
     integer :: reused = 0                        !< set-ups that kept the Schur part
+    integer :: lagged = 0                        !< refreshes of S*'s finest level since its AMG was built (&contact amg_lag)
     real(rp) :: built_dt = -1.0_rp               !< flow: the time step of that build (the mass rows depend on it)
     real(rp) :: t_setup = 0.0_rp                 !< seconds of the last set-up
     !> its components' seconds in the last set-up (0: not rebuilt): the AMG
@@ -350,8 +351,16 @@ contains
     old => null()
     if (allocated(self%bp%s(phys%bu)%p)) old => schur_amg(self%bp%s(phys%bu)%p)
     if (associated(old)) then
-      ! a refresh: the preconditioner (and the PCG steps around it) stay
-      call old%update_rows(src, status)
+      ! a refresh: the preconditioner (and the PCG steps around it) stay;
+      ! within amg_lag Newton iterations of its build only the finest level
+      ! of S*'s hierarchy is renewed (geoblock's cycle)
+      if (self%lagged + 1 < ccfg%amg_lag .and. old%own_cycle) then
+        call old%refresh_rows(src, status)
+        self%lagged = self%lagged + 1
+      else
+        call old%update_rows(src, status)
+        self%lagged = 0
+      end if
       call prod%free()
       call corr%free()
       if (.not. status%ok()) return
@@ -362,6 +371,7 @@ contains
       return
     end if
     call discard(self%bp%s(phys%bu)%p)
+    self%lagged = 0
     params%amg = amg
     ! S* has K's near-null space: the rigid-body modes, where asked (&amg)
     if (amg%interp_vec_variant > 0) params%modes = phys%mc%mech%rigid_body_modes(mesh)
@@ -832,6 +842,7 @@ contains
     self%p_eliminated = .false.
     if (allocated(self%built_state)) deallocate(self%built_state)
     self%reused = 0
+    self%lagged = 0
   end subroutine free
 
   !> The view of ctx's composition: its components and blocks.
