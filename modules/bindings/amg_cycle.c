@@ -90,8 +90,6 @@ static void halo(hypre_ParCSRMatrix *A, const HYPRE_Real *u, HYPRE_Real *v_buf, 
   hypre_ParCSRCommHandleDestroy(handle);
 }
 
-/* One l1 hybrid Gauss-Seidel sweep on the rank's rows, forward (dir > 0)
-   or backward, with the off-rank values v_ext held fixed. */
 /* f_i - sum_j a_ij x_j over row i of (ia, ja, a), reading the row upwards
    in memory (up) or downwards, with four accumulators. */
 static inline HYPRE_Real row_rest_up(const HYPRE_Int *ia, const HYPRE_Int *ja, const HYPRE_Real *a,
