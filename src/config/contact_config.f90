@@ -86,7 +86,8 @@
 !>                  the set-up is saved; rebuilt at every Newton iteration
 !>                  otherwise                                         [.true.]
 !>   amg_lag        FGMRES with 'reordered': the BoomerAMG hierarchy of S*
-!>                  (S**) is built anew every amg_lag Newton iterations;
+!>                  (S**) is built anew every amg_lag Newton iterations and
+!>                  at every step's first one;
 !>                  in between only its finest level takes the new S*
 !>                  (values and l1 norms; geoblock's cycle only), its
 !>                  coarse levels are those of the last build, 1..100   [1]
@@ -268,7 +269,8 @@ contains
     call g%add('reuse', self%reuse, '-', "FGMRES: keep the preconditioner's Schur part (S* and its AMG, S_p) "// &
                'while every element sticks, as when it was built')
     call g%add('amg_lag', self%amg_lag, '-', "FGMRES with 'reordered': the BoomerAMG hierarchy of S* (S**) is "// &
-               'built anew every amg_lag Newton iterations; in between its finest level takes the new S* '// &
+               'built anew every amg_lag Newton iterations and at every step''s first; in between its finest level '// &
+               'takes the new S* '// &
                "(geoblock's cycle only)", '1..100')
   end subroutine describe_contact_config
 end module contact_config

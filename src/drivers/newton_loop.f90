@@ -130,6 +130,7 @@ contains
       rtol = solve_rtol(sim, it, self%ls%is_direct(), ratio_prev)
       call self%ls%set_rtol(rtol)
       sim%last_solve_rtol = rtol
+      sim%newton_it = it
       call self%solve_linear(sim, log, timers, step, t, it, rtol, stats, its, stalled, why)
       if (len_trim(why) > 0) then
         cut_helps = it > 1 .or. (sim%transient .and. dt > 0.0_rp)

@@ -138,6 +138,7 @@ module contact_precon
     integer, allocatable :: built_state(:)       !< owned statuses when the Schur part was built (&contact reuse)
     integer :: reused = 0                        !< set-ups that kept the Schur part
     integer :: lagged = 0                        !< refreshes of S*'s finest level since its AMG was built (&contact amg_lag)
+    logical :: step_start = .true.               !< set-up of a step's first Newton iteration (the AMG of S* is built anew)
     real(rp) :: built_dt = -1.0_rp               !< flow: the time step of that build (the mass rows depend on it)
     real(rp) :: t_setup = 0.0_rp                 !< seconds of the last set-up
     !> its components' seconds in the last set-up (0: not rebuilt): the AMG
@@ -352,9 +353,11 @@ contains
     if (allocated(self%bp%s(phys%bu)%p)) old => schur_amg(self%bp%s(phys%bu)%p)
     if (associated(old)) then
       ! a refresh: the preconditioner (and the PCG steps around it) stay;
-      ! within amg_lag Newton iterations of its build only the finest level
-      ! of S*'s hierarchy is renewed (geoblock's cycle)
-      if (self%lagged + 1 < ccfg%amg_lag .and. old%own_cycle) then
+      ! within amg_lag Newton iterations of its build, and within the step,
+      ! only the finest level of S*'s hierarchy is renewed (geoblock's
+      ! cycle); a step's first iteration builds it anew, so that a restart
+      ! (at a step) meets the same hierarchies as the run it continues
+      if (self%lagged + 1 < ccfg%amg_lag .and. .not. self%step_start .and. old%own_cycle) then
         call old%refresh_rows(src, status)
         self%lagged = self%lagged + 1
       else

@@ -117,6 +117,8 @@ module simulation
     !> the relative tolerance the Newton loop gave the last linear solve
     !> (0 before the first): above the deck's rtol that solve was inexact
     real(rp) :: last_solve_rtol = 0.0_rp
+    !> the Newton iteration of the step (or sub-step) being solved (1: its first)
+    integer :: newton_it = 0
     integer :: max_cuts = 0                                !< halvings of a step that does not converge
     type(geostatic_config_t) :: geo                        !< &geostatic (geo%on: the run starts in situ)
     logical :: initial_step = .false.                      !< a step 0 at t = 0 before any load (geostatic)
