@@ -513,16 +513,15 @@ contains
     ic => contact_component(self)
     fc => flow_component(self)
     t0 = wall_time()
+    self%cpc%step_start = self%newton_it <= 1
     if (self%solver%precon == 'mgr') then
       call mgr_setup(self, status)
     else if (associated(fc)) then
-      self%cpc%step_start = self%newton_it <= 1
       self%cpc%subspace = fc%fcfg%subspace_correction
       self%cpc%joint_pressure = has_kind(self, 'matrix_flow')
       call self%cpc%setup(self%ctx, self%mesh, ic%ccfg, self%amg_k, status, fc%fcfg%pressure_precon)
       if (self%cpc%joint_pressure) call matrix_fluid_setup(self, status)
     else
-      self%cpc%step_start = self%newton_it <= 1
       self%cpc%subspace = .false.
       call self%cpc%setup(self%ctx, self%mesh, ic%ccfg, self%amg_k, status, no_flow%pressure_precon)
     end if
