@@ -5,7 +5,10 @@
 The model (8-byte reals, 4-byte integers: hypre 2.26 as Debian builds it,
 HYPRE_Int of 4 bytes, and our CSR with 4-byte local columns):
 
-- a CSR matrix pass reads 12 bytes a non-zero and 4 a row;
+- a CSR matrix pass reads 12 bytes a non-zero and 4 a row; a level
+  matrix's pass in geoblock's cycle on single-precision values (&amg
+  precision = 'single', with cycle_code 'geoblock' and l1-gs, relax types
+  13/14) 8 bytes a non-zero (a float and its column);
 - our CG (modules/numerics/cg.f90), per iteration: one product with our
   matrix, 21 vector passes (the copies into and out of hypre's vectors 5,
   r.z 2, the new direction 3, the product's in and out 2, p.Aq 2, the two
@@ -66,14 +69,16 @@ def parse(path):
         raise SystemExit(f'solve_bytes.py: {path}: no hypre set-up statistics (&amg print_level = 1?)')
     types = re.search(r'Type 0=Jac.*: +(\d+) +(\d+) +(\d+)', text)
     relax = (int(types.group(1)), int(types.group(2))) if types else (13, 14)
+    single = (re.search(r"precision *= 'single'", text) is not None
+              and re.search(r"cycle_code *= 'geoblock'", text) is not None and relax == (13, 14))
     step = re.search(r'iterations +(\d+) .* solve +([0-9.]+) s', text)
     if not step:
         raise SystemExit(f'solve_bytes.py: {path}: no step line with iterations and solve time')
-    return n, nnz, levels, interp, int(step.group(1)), float(step.group(2)), relax
+    return n, nnz, levels, interp, int(step.group(1)), float(step.group(2)), relax, single
 
 
-def csr(nnz, rows):
-    return 12.0 * nnz + 4.0 * rows
+def csr(nnz, rows, value_bytes=8):
+    return (value_bytes + 4.0) * nnz + 4.0 * rows
 
 
 def sweep(relax_type):
@@ -85,7 +90,7 @@ def sweep(relax_type):
     return 1, 4
 
 
-def model(n, nnz, levels, interp, relax=(13, 14)):
+def model(n, nnz, levels, interp, relax=(13, 14), single=False):
     ours = csr(nnz, n)
     vectors = 21.0 * 8 * n
     hier = 0.0
@@ -94,7 +99,7 @@ def model(n, nnz, levels, interp, relax=(13, 14)):
         rows, entries = levels[l]
         p_rows, p_avg = interp[l] if l < len(interp) else (rows, 0.0)
         coarse = levels[l + 1][0]
-        hier += (m_down + 1 + m_up) * csr(entries, rows) + 2 * csr(p_rows * p_avg, p_rows)
+        hier += (m_down + 1 + m_up) * csr(entries, rows, 4 if single else 8) + 2 * csr(p_rows * p_avg, p_rows)
         vectors += 8.0 * ((v_down + 3 + v_up + 4) * rows + 3 * coarse)
     hier += 8.0 * levels[-1][0] ** 2
     return ours, hier, vectors
@@ -102,7 +107,7 @@ def model(n, nnz, levels, interp, relax=(13, 14)):
 
 def check(path):
     text = open(path, errors='replace').read()
-    n, nnz, levels, interp, its, solve, relax = parse(path)
+    n, nnz, levels, interp, its, solve, relax, single = parse(path)
     grid = sum(r for r, _ in levels) / levels[0][0]
     oper = sum(e for _, e in levels) / levels[0][1]
     g = re.search(r'grid = ([0-9.]+)', text)
@@ -121,9 +126,9 @@ def main():
         sys.exit(check(sys.argv[2]))
     if len(sys.argv) != 3:
         raise SystemExit(__doc__)
-    n, nnz, levels, interp, its, solve, relax = parse(sys.argv[1])
+    n, nnz, levels, interp, its, solve, relax, single = parse(sys.argv[1])
     triad = float(sys.argv[2])
-    ours, hier, vectors = model(n, nnz, levels, interp, relax)
+    ours, hier, vectors = model(n, nnz, levels, interp, relax, single)
     total = ours + hier + vectors
     rate = total * its / solve / 1e9 if solve > 0 else 0.0
     mb = 1e6

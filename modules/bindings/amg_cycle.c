@@ -26,14 +26,42 @@
  *
  * gb_amg_cycle_fits(solver)          1 when the set-up hierarchy is one
  *                                    this cycle reproduces, else 0
- * gb_amg_cycle(solver, par_b, par_x) x <- one V-cycle on A x = b from
- *                                    x = 0 (x is zeroed here); returns
+ * gb_amg_cycle(solver, compact, par_b, par_x)
+ *                                    x <- one V-cycle on A x = b from
+ *                                    x = 0 (x is zeroed here), with the
+ *                                    single-precision values of compact
+ *                                    where it is not NULL; returns
  *                                    hypre's error flag
- * gb_amg_refresh_fine(solver, par_a) the finest level becomes par_a (a
+ * gb_amg_refresh_fine(solver, compact, par_a)
+ *                                    the finest level becomes par_a (a
  *                                    matrix of the same rows) with its l1
- *                                    norms; the coarse levels stay (a
- *                                    lagged hierarchy)
+ *                                    norms (and its single-precision copy
+ *                                    where compact holds one); the coarse
+ *                                    levels stay (a lagged hierarchy)
+ * gb_amg_compact_create(solver)      single-precision copies of the values
+ *                                    of every level's matrix but the
+ *                                    coarsest (NULL: none); hypre's double
+ *                                    values of the levels between the
+ *                                    finest and the coarsest are freed as
+ *                                    their copies are made: afterwards only
+ *                                    this cycle, with the copies, may run
+ *                                    the hierarchy
+ * gb_amg_compact_free(compact)       frees the copies
+ *
+ * Single precision (&amg precision = 'single'): the sweeps and the
+ * residual of a level read its matrix's values from a float copy (4 bytes
+ * an entry instead of 8; with the 4-byte column index, 8 bytes instead of
+ * 12), and sum them in double precision against double vectors. The
+ * cycle is then the same V-cycle for the matrices rounded to single
+ * precision (relative change 6e-8 an entry): still a fixed, symmetric
+ * preconditioner, whose quality the rounding does not touch. The
+ * transfers (P, P^T) and the coarse solve stay hypre's, in double. A level
+ * with an entry that single precision cannot hold as a normal number
+ * (beyond 3.4e38 or, nonzero, below 1.2e-38) keeps its double values, on
+ * its rank (the halo exchange is the same either way).
  */
+#include <float.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <mpi.h>
@@ -91,48 +119,90 @@ static void halo(hypre_ParCSRMatrix *A, const HYPRE_Real *u, HYPRE_Real *v_buf, 
 }
 
 /* f_i - sum_j a_ij x_j over row i of (ia, ja, a), reading the row upwards
-   in memory (up) or downwards, with four accumulators. */
-static inline HYPRE_Real row_rest_up(const HYPRE_Int *ia, const HYPRE_Int *ja, const HYPRE_Real *a,
-                                     const HYPRE_Real *x, HYPRE_Int i, HYPRE_Real fi)
-{
-  HYPRE_Real r0 = fi, r1 = 0.0, r2 = 0.0, r3 = 0.0;
-  HYPRE_Int jj = ia[i], end = ia[i + 1];
-  for (; jj + 3 < end; jj += 4)
-  {
-    r0 -= a[jj] * x[ja[jj]];
-    r1 -= a[jj + 1] * x[ja[jj + 1]];
-    r2 -= a[jj + 2] * x[ja[jj + 2]];
-    r3 -= a[jj + 3] * x[ja[jj + 3]];
+   in memory (up) or downwards, with four accumulators; a's values are
+   double (row_rest_up, row_rest_down) or float (..._s, summed in double). */
+#define GB_ROW_REST(UP, DOWN, VALUE)                                                                \
+  static inline HYPRE_Real UP(const HYPRE_Int *ia, const HYPRE_Int *ja, const VALUE *a,            \
+                              const HYPRE_Real *x, HYPRE_Int i, HYPRE_Real fi)                     \
+  {                                                                                                 \
+    HYPRE_Real r0 = fi, r1 = 0.0, r2 = 0.0, r3 = 0.0;                                               \
+    HYPRE_Int jj = ia[i], end = ia[i + 1];                                                          \
+    for (; jj + 3 < end; jj += 4)                                                                   \
+    {                                                                                               \
+      r0 -= (HYPRE_Real) a[jj] * x[ja[jj]];                                                         \
+      r1 -= (HYPRE_Real) a[jj + 1] * x[ja[jj + 1]];                                                 \
+      r2 -= (HYPRE_Real) a[jj + 2] * x[ja[jj + 2]];                                                 \
+      r3 -= (HYPRE_Real) a[jj + 3] * x[ja[jj + 3]];                                                 \
+    }                                                                                               \
+    for (; jj < end; jj++) r0 -= (HYPRE_Real) a[jj] * x[ja[jj]];                                    \
+    return (r0 + r1) + (r2 + r3);                                                                   \
+  }                                                                                                 \
+  static inline HYPRE_Real DOWN(const HYPRE_Int *ia, const HYPRE_Int *ja, const VALUE *a,          \
+                                const HYPRE_Real *x, HYPRE_Int i, HYPRE_Real fi)                   \
+  {                                                                                                 \
+    HYPRE_Real r0 = fi, r1 = 0.0, r2 = 0.0, r3 = 0.0;                                               \
+    HYPRE_Int jj = ia[i + 1] - 1, begin = ia[i];                                                    \
+    for (; jj - 3 >= begin; jj -= 4)                                                                \
+    {                                                                                               \
+      r0 -= (HYPRE_Real) a[jj] * x[ja[jj]];                                                         \
+      r1 -= (HYPRE_Real) a[jj - 1] * x[ja[jj - 1]];                                                 \
+      r2 -= (HYPRE_Real) a[jj - 2] * x[ja[jj - 2]];                                                 \
+      r3 -= (HYPRE_Real) a[jj - 3] * x[ja[jj - 3]];                                                 \
+    }                                                                                               \
+    for (; jj >= begin; jj--) r0 -= (HYPRE_Real) a[jj] * x[ja[jj]];                                 \
+    return (r0 + r1) + (r2 + r3);                                                                   \
   }
-  for (; jj < end; jj++) r0 -= a[jj] * x[ja[jj]];
-  return (r0 + r1) + (r2 + r3);
-}
 
-static inline HYPRE_Real row_rest_down(const HYPRE_Int *ia, const HYPRE_Int *ja, const HYPRE_Real *a,
-                                       const HYPRE_Real *x, HYPRE_Int i, HYPRE_Real fi)
-{
-  HYPRE_Real r0 = fi, r1 = 0.0, r2 = 0.0, r3 = 0.0;
-  HYPRE_Int jj = ia[i + 1] - 1, begin = ia[i];
-  for (; jj - 3 >= begin; jj -= 4)
-  {
-    r0 -= a[jj] * x[ja[jj]];
-    r1 -= a[jj - 1] * x[ja[jj - 1]];
-    r2 -= a[jj - 2] * x[ja[jj - 2]];
-    r3 -= a[jj - 3] * x[ja[jj - 3]];
+GB_ROW_REST(row_rest_up, row_rest_down, HYPRE_Real)
+GB_ROW_REST(row_rest_up_s, row_rest_down_s, float)
+
+/* One l1 hybrid Gauss-Seidel sweep over the rows 0..n-1, forward (dir > 0)
+   or backward, with the row kernels UP / DOWN on the values DA (diagonal
+   part) and OA (off-rank part). */
+#define GB_SWEEP(UP, DOWN, DA, OA)                                                                  \
+  if (dir > 0)                                                                                      \
+  {                                                                                                 \
+    for (i = 0; i < n; i++)                                                                         \
+    {                                                                                               \
+      HYPRE_Real r;                                                                                 \
+      if (l1[i] == 0.0) continue;                                                                   \
+      r = has_offd ? UP(oi, oj, OA, v_ext, i, f[i]) : f[i];                                         \
+      u[i] += UP(di, dj, DA, u, i, r) / l1[i];                                                      \
+    }                                                                                               \
+  }                                                                                                 \
+  else                                                                                              \
+  {                                                                                                 \
+    for (i = n - 1; i >= 0; i--)                                                                    \
+    {                                                                                               \
+      HYPRE_Real r;                                                                                 \
+      if (l1[i] == 0.0) continue;                                                                   \
+      r = has_offd ? DOWN(oi, oj, OA, v_ext, i, f[i]) : f[i];                                       \
+      u[i] += DOWN(di, dj, DA, u, i, r) / l1[i];                                                    \
+    }                                                                                               \
   }
-  for (; jj >= begin; jj--) r0 -= a[jj] * x[ja[jj]];
-  return (r0 + r1) + (r2 + r3);
-}
+
+/* The single-precision copies of a hierarchy's level values (all levels
+   but the coarsest), NULL for a level that keeps its double values, and
+   the halo buffers, sized for the largest level. */
+typedef struct
+{
+  HYPRE_Int levels;
+  float **diag, **offd;
+  HYPRE_Real *buf, *ext;
+  HYPRE_Int n_buf, n_ext;
+} gb_compact;
 
 /* One l1 hybrid Gauss-Seidel sweep on the rank's rows, forward (dir > 0)
-   or backward, with the off-rank values v_ext held fixed. The backward
-   sweep reads every array downwards, rows and their entries alike: read
-   row by row upwards within each row (hypre's backward kernel), the
-   memory is walked in runs that go up while the rows go down, which the
-   hardware prefetch does not follow (5x the forward sweep's time on the
-   cube's finest level, 2026-12-04). */
-static void sweep_rows(const hypre_CSRMatrix *diag, const hypre_CSRMatrix *offd, const HYPRE_Real *f,
-                       const HYPRE_Real *l1, const HYPRE_Real *v_ext, HYPRE_Real *u, int dir)
+   or backward, with the off-rank values v_ext held fixed; the values from
+   da/oa where they are given (single precision), else from the matrices.
+   The backward sweep reads every array downwards, rows and their entries
+   alike: read row by row upwards within each row (hypre's backward
+   kernel), the memory is walked in runs that go up while the rows go
+   down, which the hardware prefetch does not follow (5x the forward
+   sweep's time on the cube's finest level, 2026-12-04). */
+static void sweep_rows(const hypre_CSRMatrix *diag, const hypre_CSRMatrix *offd, const float *da_s,
+                       const float *oa_s, const HYPRE_Real *f, const HYPRE_Real *l1, const HYPRE_Real *v_ext,
+                       HYPRE_Real *u, int dir)
 {
   const HYPRE_Int n = hypre_CSRMatrixNumRows(diag);
   const HYPRE_Int *di = hypre_CSRMatrixI(diag), *dj = hypre_CSRMatrixJ(diag);
@@ -141,57 +211,90 @@ static void sweep_rows(const hypre_CSRMatrix *diag, const hypre_CSRMatrix *offd,
   const HYPRE_Real *oa = hypre_CSRMatrixData(offd);
   const int has_offd = hypre_CSRMatrixNumCols(offd) > 0 && oi != NULL;
   HYPRE_Int i;
-  if (dir > 0)
+  if (da_s != NULL)
   {
-    for (i = 0; i < n; i++)
-    {
-      HYPRE_Real r;
-      if (l1[i] == 0.0) continue;
-      r = has_offd ? row_rest_up(oi, oj, oa, v_ext, i, f[i]) : f[i];
-      u[i] += row_rest_up(di, dj, da, u, i, r) / l1[i];
-    }
+    GB_SWEEP(row_rest_up_s, row_rest_down_s, da_s, oa_s)
   }
   else
   {
-    for (i = n - 1; i >= 0; i--)
-    {
-      HYPRE_Real r;
-      if (l1[i] == 0.0) continue;
-      r = has_offd ? row_rest_down(oi, oj, oa, v_ext, i, f[i]) : f[i];
-      u[i] += row_rest_down(di, dj, da, u, i, r) / l1[i];
-    }
+    GB_SWEEP(row_rest_up, row_rest_down, da, oa)
   }
 }
 
-/* One sweep on a level: the halo, then the rank's rows. */
-static void sweep(hypre_ParCSRMatrix *A, hypre_ParVector *f, hypre_ParVector *u, const HYPRE_Real *l1,
-                  int dir)
+/* The number of values A's halo sends from this rank. */
+static HYPRE_Int send_size(hypre_ParCSRMatrix *A)
 {
-  hypre_CSRMatrix *offd = hypre_ParCSRMatrixOffd(A);
-  HYPRE_Real *uu = hypre_VectorData(hypre_ParVectorLocalVector(u));
-  HYPRE_Real *v_ext = NULL, *v_buf = NULL;
-  HYPRE_Int n_ext = hypre_CSRMatrixNumCols(offd);
-  int procs;
-  MPI_Comm_size(hypre_ParCSRMatrixComm(A), &procs);
-  if (procs > 1)
-  {
-    hypre_ParCSRCommPkg *pkg;
-    if (hypre_ParCSRMatrixCommPkg(A) == NULL) hypre_MatvecCommPkgCreate(A);
-    pkg = hypre_ParCSRMatrixCommPkg(A);
-    v_buf = (HYPRE_Real *) malloc(sizeof(HYPRE_Real) *
-                                  (1 + hypre_ParCSRCommPkgSendMapStart(pkg, hypre_ParCSRCommPkgNumSends(pkg))));
-    v_ext = (HYPRE_Real *) malloc(sizeof(HYPRE_Real) * (1 + n_ext));
-    halo(A, uu, v_buf, v_ext);
-  }
-  sweep_rows(hypre_ParCSRMatrixDiag(A), offd, hypre_VectorData(hypre_ParVectorLocalVector(f)), l1, v_ext, uu,
-             dir);
-  free(v_buf);
-  free(v_ext);
+  hypre_ParCSRCommPkg *pkg;
+  if (hypre_ParCSRMatrixCommPkg(A) == NULL) hypre_MatvecCommPkgCreate(A);
+  pkg = hypre_ParCSRMatrixCommPkg(A);
+  return hypre_ParCSRCommPkgSendMapStart(pkg, hypre_ParCSRCommPkgNumSends(pkg));
 }
 
-int gb_amg_cycle(void *solver, void *par_b, void *par_x)
+/* The halo of u on a level, into v_ext (NULL on one rank): the buffers of
+   c where given, else allocated here (*own set to free them). */
+static HYPRE_Real *level_halo(hypre_ParCSRMatrix *A, const HYPRE_Real *u, gb_compact *c, HYPRE_Real **own_buf,
+                              HYPRE_Real **own_ext)
+{
+  int procs;
+  *own_buf = NULL;
+  *own_ext = NULL;
+  MPI_Comm_size(hypre_ParCSRMatrixComm(A), &procs);
+  if (procs == 1) return NULL;
+  if (c != NULL)
+  {
+    halo(A, u, c->buf, c->ext);
+    return c->ext;
+  }
+  *own_buf = (HYPRE_Real *) malloc(sizeof(HYPRE_Real) * (1 + send_size(A)));
+  *own_ext = (HYPRE_Real *) malloc(sizeof(HYPRE_Real) * (1 + hypre_CSRMatrixNumCols(hypre_ParCSRMatrixOffd(A))));
+  halo(A, u, *own_buf, *own_ext);
+  return *own_ext;
+}
+
+/* One sweep on level l: the halo, then the rank's rows. */
+static void sweep(hypre_ParCSRMatrix *A, gb_compact *c, HYPRE_Int l, hypre_ParVector *f, hypre_ParVector *u,
+                  const HYPRE_Real *l1, int dir)
+{
+  HYPRE_Real *uu = hypre_VectorData(hypre_ParVectorLocalVector(u));
+  HYPRE_Real *b1, *b2, *v_ext;
+  const float *da_s = (c != NULL) ? c->diag[l] : NULL;
+  const float *oa_s = (c != NULL) ? c->offd[l] : NULL;
+  v_ext = level_halo(A, uu, c, &b1, &b2);
+  sweep_rows(hypre_ParCSRMatrixDiag(A), hypre_ParCSRMatrixOffd(A), da_s, oa_s,
+             hypre_VectorData(hypre_ParVectorLocalVector(f)), l1, v_ext, uu, dir);
+  free(b1);
+  free(b2);
+}
+
+/* v = f - A u on level l with the single-precision values of c. */
+static void residual_s(hypre_ParCSRMatrix *A, gb_compact *c, HYPRE_Int l, hypre_ParVector *f,
+                       hypre_ParVector *u, hypre_ParVector *v)
+{
+  const hypre_CSRMatrix *diag = hypre_ParCSRMatrixDiag(A), *offd = hypre_ParCSRMatrixOffd(A);
+  const HYPRE_Int n = hypre_CSRMatrixNumRows(diag);
+  const HYPRE_Int *di = hypre_CSRMatrixI(diag), *dj = hypre_CSRMatrixJ(diag);
+  const HYPRE_Int *oi = hypre_CSRMatrixI(offd), *oj = hypre_CSRMatrixJ(offd);
+  const int has_offd = hypre_CSRMatrixNumCols(offd) > 0 && oi != NULL;
+  const float *da = c->diag[l], *oa = c->offd[l];
+  const HYPRE_Real *ff = hypre_VectorData(hypre_ParVectorLocalVector(f));
+  HYPRE_Real *uu = hypre_VectorData(hypre_ParVectorLocalVector(u));
+  HYPRE_Real *vv = hypre_VectorData(hypre_ParVectorLocalVector(v));
+  HYPRE_Real *b1, *b2, *v_ext;
+  HYPRE_Int i;
+  v_ext = level_halo(A, uu, c, &b1, &b2);
+  for (i = 0; i < n; i++)
+  {
+    HYPRE_Real r = has_offd ? row_rest_up_s(oi, oj, oa, v_ext, i, ff[i]) : ff[i];
+    vv[i] = row_rest_up_s(di, dj, da, uu, i, r);
+  }
+  free(b1);
+  free(b2);
+}
+
+int gb_amg_cycle(void *solver, void *compact, void *par_b, void *par_x)
 {
   hypre_ParAMGData *amg = (hypre_ParAMGData *) solver;
+  gb_compact *c = (gb_compact *) compact;
   hypre_ParCSRMatrix **A = hypre_ParAMGDataAArray(amg);
   hypre_ParCSRMatrix **P = hypre_ParAMGDataPArray(amg);
   hypre_ParCSRMatrix **R = hypre_ParAMGDataRArray(amg);
@@ -204,14 +307,18 @@ int gb_amg_cycle(void *solver, void *par_b, void *par_x)
   const HYPRE_Int coarsest = num_levels - 1;
   HYPRE_Int l, s;
 
+  if (c != NULL && c->levels != coarsest) c = NULL;
   F[0] = (hypre_ParVector *) par_b;
   U[0] = (hypre_ParVector *) par_x;
   hypre_ParVectorSetConstantValues(U[0], 0.0);
   for (l = 0; l < coarsest; l++)
   {
     hypre_ParVectorSetLocalSize(Vtemp, hypre_VectorSize(hypre_ParVectorLocalVector(F[l])));
-    for (s = 0; s < sweeps[1]; s++) sweep(A[l], F[l], U[l], hypre_VectorData(l1[l]), 1);
-    hypre_ParCSRMatrixMatvecOutOfPlace(-1.0, A[l], U[l], 1.0, F[l], Vtemp);
+    for (s = 0; s < sweeps[1]; s++) sweep(A[l], c, l, F[l], U[l], hypre_VectorData(l1[l]), 1);
+    if (c != NULL && c->diag[l] != NULL)
+      residual_s(A[l], c, l, F[l], U[l], Vtemp);
+    else
+      hypre_ParCSRMatrixMatvecOutOfPlace(-1.0, A[l], U[l], 1.0, F[l], Vtemp);
     hypre_ParCSRMatrixMatvecT(1.0, R[l], Vtemp, 0.0, F[l + 1]);
     hypre_ParVectorSetConstantValues(U[l + 1], 0.0);
   }
@@ -221,14 +328,124 @@ int gb_amg_cycle(void *solver, void *par_b, void *par_x)
   {
     hypre_ParVectorSetLocalSize(Vtemp, hypre_VectorSize(hypre_ParVectorLocalVector(F[l])));
     hypre_ParCSRMatrixMatvec(1.0, P[l], U[l + 1], 1.0, U[l]);
-    for (s = 0; s < sweeps[2]; s++) sweep(A[l], F[l], U[l], hypre_VectorData(l1[l]), -1);
+    for (s = 0; s < sweeps[2]; s++) sweep(A[l], c, l, F[l], U[l], hypre_VectorData(l1[l]), -1);
   }
   return hypre_error_flag;
 }
 
-int gb_amg_refresh_fine(void *solver, void *par_a)
+/* A float copy of the n values a, or NULL when one of them is not a normal
+   single-precision number (nor zero; NaN neither), or there is no memory.
+   One pass: the check has no early exit, so that the loop vectorizes. */
+static float *single_copy(const HYPRE_Real *a, HYPRE_Int n)
+{
+  float *s;
+  HYPRE_Int k;
+  int bad = 0;
+  if (n > 0 && a == NULL) return NULL;
+  s = (float *) malloc(sizeof(float) * (size_t) (n > 0 ? n : 1));
+  if (s == NULL) return NULL;
+  for (k = 0; k < n; k++)
+  {
+    const HYPRE_Real m = fabs(a[k]);
+    bad |= (m != 0.0) & !((m >= FLT_MIN) & (m <= FLT_MAX));
+    s[k] = (float) a[k];
+  }
+  if (!bad) return s;
+  free(s);
+  return NULL;
+}
+
+/* Level l's single-precision values into c (both parts, or neither). */
+static void compact_level(gb_compact *c, hypre_ParCSRMatrix *A, HYPRE_Int l)
+{
+  const hypre_CSRMatrix *diag = hypre_ParCSRMatrixDiag(A), *offd = hypre_ParCSRMatrixOffd(A);
+  free(c->diag[l]);
+  free(c->offd[l]);
+  c->diag[l] = NULL;
+  c->offd[l] = NULL;
+  c->diag[l] = single_copy(hypre_CSRMatrixData(diag), hypre_CSRMatrixNumNonzeros(diag));
+  if (c->diag[l] == NULL) return;
+  c->offd[l] = single_copy(hypre_CSRMatrixData(offd), hypre_CSRMatrixNumNonzeros(offd));
+  if (c->offd[l] != NULL) return;
+  free(c->diag[l]);
+  c->diag[l] = NULL;
+}
+
+/* Frees a level matrix's double values (only geoblock's cycle with its
+   copies reads them afterwards). */
+static void release_level(hypre_ParCSRMatrix *A)
+{
+  hypre_CSRMatrix *parts[2];
+  int k;
+  parts[0] = hypre_ParCSRMatrixDiag(A);
+  parts[1] = hypre_ParCSRMatrixOffd(A);
+  for (k = 0; k < 2; k++)
+  {
+    if (!hypre_CSRMatrixOwnsData(parts[k])) continue;
+    hypre_TFree(hypre_CSRMatrixData(parts[k]), HYPRE_MEMORY_HOST);
+    hypre_CSRMatrixData(parts[k]) = NULL;
+  }
+}
+
+void gb_amg_compact_free(void *compact)
+{
+  gb_compact *c = (gb_compact *) compact;
+  HYPRE_Int l;
+  if (c == NULL) return;
+  for (l = 0; l < c->levels; l++)
+  {
+    free(c->diag[l]);
+    free(c->offd[l]);
+  }
+  free(c->diag);
+  free(c->offd);
+  free(c->buf);
+  free(c->ext);
+  free(c);
+}
+
+void *gb_amg_compact_create(void *solver)
 {
   hypre_ParAMGData *amg = (hypre_ParAMGData *) solver;
+  hypre_ParCSRMatrix **A = hypre_ParAMGDataAArray(amg);
+  const HYPRE_Int levels = hypre_ParAMGDataNumLevels(amg) - 1;
+  HYPRE_Int l, nb = 1, ne = 1;
+  gb_compact *c;
+  if (levels < 1) return NULL;
+  c = (gb_compact *) calloc(1, sizeof(gb_compact));
+  if (c == NULL) return NULL;
+  c->levels = levels;
+  c->diag = (float **) calloc((size_t) levels, sizeof(float *));
+  c->offd = (float **) calloc((size_t) levels, sizeof(float *));
+  for (l = 0; l < levels; l++)
+  {
+    const HYPRE_Int s = send_size(A[l]), e = hypre_CSRMatrixNumCols(hypre_ParCSRMatrixOffd(A[l]));
+    if (s + 1 > nb) nb = s + 1;
+    if (e + 1 > ne) ne = e + 1;
+  }
+  c->buf = (HYPRE_Real *) malloc(sizeof(HYPRE_Real) * (size_t) nb);
+  c->ext = (HYPRE_Real *) malloc(sizeof(HYPRE_Real) * (size_t) ne);
+  c->n_buf = nb;
+  c->n_ext = ne;
+  if (c->diag == NULL || c->offd == NULL || c->buf == NULL || c->ext == NULL)
+  {
+    gb_amg_compact_free(c);
+    return NULL;
+  }
+  /* level by level, each coarse level's double values freed once its
+     copy is made, so that the copies add at most one level to the peak */
+  for (l = 0; l < levels; l++)
+  {
+    compact_level(c, A[l], l);
+    if (l > 0 && c->diag[l] != NULL) release_level(A[l]);
+  }
+  return c;
+}
+
+int gb_amg_refresh_fine(void *solver, void *compact, void *par_a)
+{
+  hypre_ParAMGData *amg = (hypre_ParAMGData *) solver;
+  gb_compact *c = (gb_compact *) compact;
   hypre_ParCSRMatrix *A = (hypre_ParCSRMatrix *) par_a;
   hypre_Vector *l1 = hypre_ParAMGDataL1Norms(amg)[0];
   HYPRE_Real *norms = NULL;
@@ -240,5 +457,26 @@ int gb_amg_refresh_fine(void *solver, void *par_a)
   hypre_ParCSRComputeL1Norms(A, 4, NULL, &norms);
   memcpy(hypre_VectorData(l1), norms, sizeof(HYPRE_Real) * (size_t) n);
   hypre_TFree(norms, HYPRE_MEMORY_HOST);
+  if (c != NULL)
+  {
+    /* the new matrix's halo may be larger than the old one's */
+    const HYPRE_Int s = send_size(A) + 1, e = hypre_CSRMatrixNumCols(hypre_ParCSRMatrixOffd(A)) + 1;
+    HYPRE_Real *nb;
+    if (s > c->n_buf)
+    {
+      nb = (HYPRE_Real *) realloc(c->buf, sizeof(HYPRE_Real) * (size_t) s);
+      if (nb == NULL) return 1;
+      c->buf = nb;
+      c->n_buf = s;
+    }
+    if (e > c->n_ext)
+    {
+      nb = (HYPRE_Real *) realloc(c->ext, sizeof(HYPRE_Real) * (size_t) e);
+      if (nb == NULL) return 1;
+      c->ext = nb;
+      c->n_ext = e;
+    }
+    compact_level(c, A, 0);
+  }
   return hypre_error_flag;
 }

@@ -1,11 +1,14 @@
 !> Interfaces to amg_cycle.c: geoblock's own V-cycle over a BoomerAMG
-!> hierarchy, with its own l1 Gauss-Seidel sweep (see that file). The
-!> handles are hypre's (HYPRE_Solver, HYPRE_ParVector), passed by value.
+!> hierarchy, with its own l1 Gauss-Seidel sweep, and the single-precision
+!> copies of its level values (see that file). The handles are hypre's
+!> (HYPRE_Solver, HYPRE_ParVector, HYPRE_ParCSRMatrix) and amg_cycle.c's
+!> (compact), passed by value.
 module amg_cycle_c
   use, intrinsic :: iso_c_binding, only: c_ptr, c_int
   implicit none
   private
   public :: gb_amg_cycle_fits, gb_amg_cycle, gb_amg_refresh_fine
+  public :: gb_amg_compact_create, gb_amg_compact_free
 
   interface
     !> 1 when the set-up hierarchy of `solver` is one gb_amg_cycle
@@ -16,19 +19,39 @@ module amg_cycle_c
       integer(c_int) :: fits
     end function gb_amg_cycle_fits
 
-    !> x <- one V-cycle on A x = b from x = 0; hypre's error flag.
-    function gb_amg_cycle(solver, b, x) bind(C, name='gb_amg_cycle') result(ierr)
+    !> x <- one V-cycle on A x = b from x = 0, with the single-precision
+    !> values of compact where it is not null; hypre's error flag.
+    function gb_amg_cycle(solver, compact, b, x) bind(C, name='gb_amg_cycle') result(ierr)
       import :: c_ptr, c_int
-      type(c_ptr), value :: solver, b, x
+      type(c_ptr), value :: solver, compact, b, x
       integer(c_int) :: ierr
     end function gb_amg_cycle
 
     !> The finest level of solver's hierarchy becomes a (same rows), with
-    !> its l1 norms; the coarse levels stay. 0 on success.
-    function gb_amg_refresh_fine(solver, a) bind(C, name='gb_amg_refresh_fine') result(ierr)
+    !> its l1 norms and, where compact is not null, its single-precision
+    !> copy; the coarse levels stay. 0 on success.
+    function gb_amg_refresh_fine(solver, compact, a) bind(C, name='gb_amg_refresh_fine') result(ierr)
       import :: c_ptr, c_int
-      type(c_ptr), value :: solver, a
+      type(c_ptr), value :: solver, compact, a
       integer(c_int) :: ierr
     end function gb_amg_refresh_fine
+
+    !> Single-precision copies of the values of every level of solver's
+    !> hierarchy but the coarsest (null: no memory or one level; a level
+    !> with a value out of single precision's range keeps its double ones);
+    !> hypre's double values of the levels between the finest and the
+    !> coarsest are freed as their copies are made (only gb_amg_cycle with
+    !> compact may run the hierarchy afterwards).
+    function gb_amg_compact_create(solver) bind(C, name='gb_amg_compact_create') result(compact)
+      import :: c_ptr
+      type(c_ptr), value :: solver
+      type(c_ptr) :: compact
+    end function gb_amg_compact_create
+
+    !> Frees compact (null: nothing).
+    subroutine gb_amg_compact_free(compact) bind(C, name='gb_amg_compact_free')
+      import :: c_ptr
+      type(c_ptr), value :: compact
+    end subroutine gb_amg_compact_free
   end interface
 end module amg_cycle_c

@@ -65,6 +65,28 @@
 !>                               elasticity's and Biot's default) streams
 !>                               at 65-76 % of the triad but costs hypre's
 !>                               eigenvalue estimates in every set-up.
+!>   precision single          : geoblock's cycle reads each level's values
+!>                               from float copies (amg_cycle.c; 8 bytes an
+!>                               entry with its column index instead of 12,
+!>                               summed in double against double vectors;
+!>                               the coarse levels' double values are freed,
+!>                               the finest's stay with the IJ matrix). The
+!>                               same counts on every case measured (the
+!>                               rounding moves M^-1 x by 3e-8 of its
+!>                               largest entry), less solve time (2 ranks,
+!>                               2026-12-04, a noisy machine): the cube at
+!>                               n = 64, CG, 26 iterations, 3.2 s against
+!>                               4.0-4.2 s (quiet pairs; 1 rank 4.3-4.4 s
+!>                               against 5.3-5.6 s); Mandel at the seed's
+!>                               size, gamma 1, 29 FGMRES iterations, 1.04-
+!>                               1.06 s against 1.23-1.27 s; the nine
+!>                               fractures on 34 x 34 x 69 cells, the same
+!>                               Newton counts, statuses and FGMRES counts
+!>                               within 0.4 %, 85 s against 100 s in the
+!>                               same hour. Costs: a pass over the
+!>                               hierarchy per set-up (0.15 s on the cube)
+!>                               and the finest level's copy (+13 % peak on
+!>                               the cube, +3.5 % on the nine fractures).
 !>   relax_order lexicographic : the Gauss-Seidel sweeps run through the rows
 !>                               once, in their order, rather than hypre's
 !>                               C-then-F order, which walks every level's
@@ -175,6 +197,9 @@ module amg_params
     !> hierarchy, for l1-gs V-cycles in lexicographic order with unit
     !> weights; hypre's own cycle for every other setting) or 'hypre'
     character(len=name_len) :: cycle_code = 'geoblock'
+    !> the level values in geoblock's cycle: 'double' or 'single' (float
+    !> copies, 8 bytes an entry with its column instead of 12; amg_cycle.c)
+    character(len=name_len) :: precision = 'single'
   contains
     procedure :: validate
     procedure :: to_lines
@@ -281,6 +306,8 @@ contains
       call bad_int('print_level', self%print_level, 'an integer in 0..3')
     else if (lower(self%cycle_code) /= 'geoblock' .and. lower(self%cycle_code) /= 'hypre') then
       call bad_name('cycle_code', self%cycle_code, 'geoblock, hypre')
+    else if (lower(self%precision) /= 'double' .and. lower(self%precision) /= 'single') then
+      call bad_name('precision', self%precision, 'double, single')
     else if (.not. (self%slab_threshold >= 0.0_rp .and. self%slab_threshold < 1.0_rp)) then
       call bad_real('slab_threshold', self%slab_threshold, 'a real in [0, 1) (0: as strong_threshold)')
     end if
@@ -318,7 +345,7 @@ contains
   subroutine to_lines(self, lines)
     class(amg_params_t), intent(in) :: self
     character(len=amg_line_len), allocatable, intent(out) :: lines(:)
-    allocate(lines(24))
+    allocate(lines(25))
     lines(1) = int_line('num_functions', self%num_functions)
     lines(2) = int_line('nodal', self%nodal)
     lines(3) = 'coarsen_type = '//trim(self%coarsen_type)
@@ -343,6 +370,7 @@ contains
     lines(22) = 'slab_threshold = '//real_text(self%slab_threshold)
     lines(23) = 'relax_order = '//trim(self%relax_order)
     lines(24) = 'cycle_code = '//trim(self%cycle_code)
+    lines(25) = 'precision = '//trim(self%precision)
   end subroutine to_lines
 
   !> hypre id of coarsen_type, or -1 when the name is unknown.

@@ -21,7 +21,8 @@ module boomeramg_precon
   use precon, only: precon_t
   use amg_params, only: amg_params_t, amg_line_len
   use hypre_ij, only: hypre_ij_t, ij_rows_t, hypre_check
-  use amg_cycle_c, only: gb_amg_cycle_fits, gb_amg_cycle, gb_amg_refresh_fine
+  use amg_cycle_c, only: gb_amg_cycle_fits, gb_amg_cycle, gb_amg_refresh_fine, gb_amg_compact_create, &
+                         gb_amg_compact_free
   use index_map, only: index_map_t
   use strings, only: lower
   use hypre_c, only: HYPRE_MEMORY_HOST, HYPRE_BoomerAMGSetRelaxOrder, HYPRE_ClearAllErrors, HYPRE_GetError, hypre_CAlloc, &
@@ -59,6 +60,7 @@ module boomeramg_precon
     integer(gp), allocatable :: level_rows(:)      !< (num_levels) global rows per level, finest first
     real(rp) :: grid_complexity = 0.0_rp           !< sum of level rows / fine rows
     logical :: own_cycle = .false.                 !< apply runs amg_cycle.c's V-cycle (set per set-up)
+    type(c_ptr) :: compact = c_null_ptr            !< its single-precision level values (&amg precision)
   contains
     procedure :: setup
     procedure :: setup_rows
@@ -180,7 +182,7 @@ contains
     t0 = wall_time()
     call self%ij%rebuild_rows(src, status)
     if (.not. status%ok()) return
-    call hypre_check(self%comm, int(gb_amg_refresh_fine(self%solver, self%ij%par_a), hypre_int), &
+    call hypre_check(self%comm, int(gb_amg_refresh_fine(self%solver, self%compact, self%ij%par_a), hypre_int), &
                      'boomeramg_precon: the finest level of a lagged hierarchy', status)
     self%setup_time = wall_time() - t0
   end subroutine refresh_rows
@@ -211,6 +213,7 @@ contains
       call status%set('boomeramg_precon%'//what//': setup() was not called')
       return
     end if
+    call free_compact(self)
     if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
     self%solver = c_null_ptr
     if (present(a)) call self%ij%update_values(a, status)
@@ -293,6 +296,7 @@ contains
 
     p = self%params
     no_memory = .false.
+    call free_compact(self)
     if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
     self%solver = c_null_ptr
     call free_modes(self)
@@ -337,6 +341,8 @@ contains
     self%own_cycle = .false.
     if (status%ok() .and. lower(p%cycle_code) == 'geoblock') &
       self%own_cycle = .not. self%comm%any_true(gb_amg_cycle_fits(self%solver) /= 1_c_int)
+    ! its level values in single precision where asked (amg_cycle.c)
+    if (self%own_cycle .and. lower(p%precision) == 'single') self%compact = gb_amg_compact_create(self%solver)
     ! the sizes of the previous hierarchy no longer hold
     self%num_levels = 0
     if (allocated(self%level_rows)) deallocate(self%level_rows)
@@ -440,7 +446,7 @@ contains
     ierr = HYPRE_ClearAllErrors()
     call self%ij%set_rhs(r)
     if (self%own_cycle) then
-      ierr = int(gb_amg_cycle(self%solver, self%ij%par_b, self%ij%par_x), hypre_int)
+      ierr = int(gb_amg_cycle(self%solver, self%compact, self%ij%par_b, self%ij%par_x), hypre_int)
     else
       call self%ij%zero_x()
       ierr = HYPRE_BoomerAMGSolve(self%solver, self%ij%par_a, self%ij%par_b, self%ij%par_x)
@@ -469,10 +475,18 @@ contains
     end do
   end subroutine hierarchy_lines
 
+  !> Frees the single-precision level values (none: nothing).
+  subroutine free_compact(self)
+    type(boomeramg_precon_t), intent(inout) :: self
+    call gb_amg_compact_free(self%compact)
+    self%compact = c_null_ptr
+  end subroutine free_compact
+
   !> Destroy the hypre solver and matrix copy.
   subroutine amg_free(self)
     class(boomeramg_precon_t), intent(inout) :: self
     integer(hypre_int) :: ierr
+    call free_compact(self)
     if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
     self%solver = c_null_ptr
     call free_modes(self)

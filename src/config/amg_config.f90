@@ -5,7 +5,7 @@
 !>   agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths,
 !>   strong_threshold, max_row_sum, max_levels, max_coarse_size, relax_type,
 !>   relax_order, num_sweeps, relax_wt, print_level, cycle_type,
-!>   interp_vec_variant, interp_vec_qmax, slab_threshold, cycle_code
+!>   interp_vec_variant, interp_vec_qmax, slab_threshold, cycle_code, precision
 !> slab_threshold (a real in [0, 1), default 0.8; 0: as strong_threshold): on
 !> a slab with flat cells (a plane-strain mesh one or a few cells thick,
 !> found from the mesh: src/discretization/slab_geometry.f90), the strength
@@ -36,7 +36,7 @@ contains
     integer :: num_functions, nodal, p_max_elmts, agg_num_levels, agg_p_max_elmts, num_paths, &
                max_levels, max_coarse_size, num_sweeps, print_level, interp_vec_variant, interp_vec_qmax, ios
     character(len=name_len) :: coarsen_type, interp_type, agg_interp_type, relax_type, cycle_type, relax_order, &
-                               cycle_code
+                               cycle_code, precision
     real(rp) :: trunc_factor, strong_threshold, max_row_sum, relax_wt, slab_threshold
     type(error_status_t) :: vstat
     character(len=msg_len) :: msg
@@ -44,7 +44,8 @@ contains
     namelist /amg/ num_functions, nodal, coarsen_type, interp_type, p_max_elmts, trunc_factor, &
                    agg_num_levels, agg_interp_type, agg_p_max_elmts, num_paths, strong_threshold, &
                    max_row_sum, max_levels, max_coarse_size, relax_type, num_sweeps, relax_wt, print_level, &
-                   interp_vec_variant, interp_vec_qmax, cycle_type, slab_threshold, relax_order, cycle_code
+                   interp_vec_variant, interp_vec_qmax, cycle_type, slab_threshold, relax_order, cycle_code, &
+                   precision
 
     num_functions = params%num_functions; nodal = params%nodal; coarsen_type = params%coarsen_type
     interp_type = params%interp_type; p_max_elmts = params%p_max_elmts; trunc_factor = params%trunc_factor
@@ -55,7 +56,7 @@ contains
     num_sweeps = params%num_sweeps; relax_wt = params%relax_wt; print_level = params%print_level
     interp_vec_variant = params%interp_vec_variant; interp_vec_qmax = params%interp_vec_qmax
     cycle_type = params%cycle_type; slab_threshold = params%slab_threshold; relax_order = params%relax_order
-    cycle_code = params%cycle_code
+    cycle_code = params%cycle_code; precision = params%precision
     if (d%count('amg') > 0) then
       call d%block('amg', 1, b)
       read(b, nml=amg, iostat=ios, iomsg=msg)
@@ -71,7 +72,7 @@ contains
       max_levels=max_levels, max_coarse_size=max_coarse_size, relax_type=relax_type, relax_order=relax_order, &
       num_sweeps=num_sweeps, relax_wt=relax_wt, print_level=print_level, &
       interp_vec_variant=interp_vec_variant, interp_vec_qmax=interp_vec_qmax, cycle_type=cycle_type, &
-      slab_threshold=slab_threshold, cycle_code=cycle_code)
+      slab_threshold=slab_threshold, cycle_code=cycle_code, precision=precision)
     call params%validate(vstat)
     if (.not. vstat%ok()) then
       write(msg, '(a,i0,a)') "deck '"//trim(d%path)//"', group &amg (line ", d%first_line('amg', 1), "): "// &
@@ -124,6 +125,9 @@ contains
                "hierarchy (l1-gs V-cycles, lexicographic order, unit weights; its backward sweep reads memory "// &
                "downwards: half the solve time of hypre's on elasticity), hypre's own for other settings", &
                "'geoblock' or 'hypre'")
+    call g%add('precision', params%precision, '-', "the level matrices' values in geoblock's cycle: double, "// &
+               "or single (float copies: 8 bytes an entry with its column index instead of 12, summed in double; "// &
+               "a level beyond single precision's range stays double)", "'double' or 'single'")
     call g%add('slab_threshold', params%slab_threshold, '-', 'strength threshold, at least, of the displacement '// &
                'block (K, S*) on a slab with flat cells (found from the mesh; 0: as strong_threshold)', '[0, 1)')
   end subroutine describe_amg_config

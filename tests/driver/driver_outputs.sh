@@ -221,11 +221,13 @@ else
   ko "every = 10: $nsteps steps, $nfiles output files, expected $expect"
 fi
 # the smoother every physics defaults to, l1 Gauss-Seidel in geoblock's
-# cycle, in the parameters files of biot (Mandel) and elasticity (the gmsh deck)
+# cycle on single-precision level values, in the parameters files of biot
+# (Mandel) and elasticity (the gmsh deck)
 for f in "$out/every/mandel_parameters.nml" "$out/gmsh/gmsh_block_parameters.nml"; do
   grep -q "^  relax_type *= 'l1-gs'" "$f" && grep -q "^  cycle_code *= 'geoblock'" "$f" && \
-    ok "$(basename "$f"): &amg relax_type 'l1-gs', cycle_code 'geoblock' by default" \
-    || ko "$(basename "$f"): &amg relax_type is not 'l1-gs' or cycle_code not 'geoblock' by default"
+    grep -q "^  precision *= 'single'" "$f" && \
+    ok "$(basename "$f"): &amg relax_type 'l1-gs', cycle_code 'geoblock', precision 'single' by default" \
+    || ko "$(basename "$f"): &amg relax_type is not 'l1-gs', cycle_code not 'geoblock' or precision not 'single' by default"
 done
 # 5. the stress order ParaView labels (XX YY ZZ XY YZ XZ) on two exact
 # constant-stress states, and the probe file of the triaxial box: against the

@@ -6,6 +6,7 @@
 !> dof nf*(node-1)+c, whole nodes per rank, contiguous in rank order), each
 !> component scaled by its own factor and decoupled from the others.
 program test_boomeramg
+  use, intrinsic :: iso_c_binding, only: c_associated
   use kinds, only: rp, ip, gp
   use parallel_comm, only: parallel_comm_t
   use error_status, only: error_status_t
@@ -35,6 +36,7 @@ program test_boomeramg
   call test_dof_func(suite, comm)
   call test_own_cycle(suite, comm)
   call test_lagged(suite, comm)
+  call test_single(suite, comm)
   call suite%finish()
 
 contains
@@ -103,6 +105,9 @@ contains
     p%cycle_code = 'petsc'
     call expect_bad(suite, p, 'cycle_code')
     p = amg_params_t()
+    p%precision = 'half'
+    call expect_bad(suite, p, 'precision')
+    p = amg_params_t()
     p%slab_threshold = 1.0_rp
     call expect_bad(suite, p, 'slab_threshold')
     p%slab_threshold = -0.1_rp
@@ -131,7 +136,7 @@ contains
 
     p = amg_params_t()
     call p%to_lines(lines)
-    call suite%assert_equal_int(size(lines), 24, 'params: one echo line per field')
+    call suite%assert_equal_int(size(lines), 25, 'params: one echo line per field')
     call suite%assert_true(any(lines == 'coarsen_type = hmis') .and. any(lines == 'num_functions = 3') &
                            .and. any(lines == 'strong_threshold = 0.500000') .and. any(lines == 'cycle_type = v'), &
                            'params: echo lines read "name = value"')
@@ -546,6 +551,7 @@ contains
 
     call build_laplacian(comm, 16, 3, [1.0_rp, 100.0_rp, 0.01_rp], row_map, col_map, a)
     call from_csr(a, g)
+    p%precision = 'double'
     call src%init(a, g, 0.0_rp)
     call amg%setup_rows(src, p, st)
     call suite%assert_true(st%ok() .and. amg%own_cycle, "lagged: setup_rows takes geoblock's cycle: "//trim(st%msg))
@@ -592,6 +598,139 @@ contains
     call g%free()
   end subroutine test_lagged
 
+  !> precision = 'single': geoblock's cycle on float copies of the level
+  !> values. On the 3 interleaved Laplacians (scaled 1, 100, 0.01, 16^3
+  !> nodes; 0.01 and the coarse levels' Galerkin values are not floats) and
+  !> a scalar one scaled by 0.3: M^-1 x moves from the double cycle's by no
+  !> more than 1e-6 of its largest entry (3e-8 measured) (the entries move by 6e-8 of
+  !> themselves) but does move (the copies are read), and the stationary
+  !> iteration takes as many cycles to reduce the residual by 1e-6. A matrix
+  !> beyond single precision's range (the scalar Laplacian scaled by 1e39,
+  !> and by 1e-39) keeps its double values: the cycle is the double one to
+  !> 1e-13. A lagged refresh with the same values keeps the cycle; with
+  !> 1.25 A the cycle is the double lagged one's to 1e-6.
+  subroutine test_single(suite, comm)
+    type(test_suite_t), intent(inout) :: suite
+    type(parallel_comm_t), intent(in) :: comm
+    type(index_map_t), target :: row_map, col_map, row_map1, col_map1, row_map2, col_map2, row_map3, col_map3
+    type(csr_matrix_t), target :: a, a1, big, tiny_a
+    type(global_csr_t), target :: g
+    type(sum_rows_t) :: src
+    type(boomeramg_precon_t) :: md, ms
+    type(amg_params_t) :: p, ps
+    type(error_status_t) :: st
+    real(rp), allocatable :: x(:), zd(:), zs(:), b(:)
+    integer :: cd, cs
+    real(rp) :: rd, rs
+
+    call build_laplacian(comm, 16, 3, [1.0_rp, 100.0_rp, 0.01_rp], row_map, col_map, a)
+    call build_laplacian(comm, 30, 1, [0.3_rp], row_map1, col_map1, a1)
+    call build_laplacian(comm, 12, 1, [1.0e39_rp], row_map2, col_map2, big)
+    call build_laplacian(comm, 12, 1, [1.0e-39_rp], row_map3, col_map3, tiny_a)
+    p = amg_params_t()
+    call compare_single(suite, comm, a, p, 'systems', 1.0e-6_rp, .true.)
+    p%num_functions = 1
+    call compare_single(suite, comm, a1, p, 'scalar', 1.0e-6_rp, .true.)
+    call compare_single(suite, comm, big, p, 'scalar x 1e39 (kept double)', 1.0e-13_rp, .false.)
+    call compare_single(suite, comm, tiny_a, p, 'scalar x 1e-39 (kept double)', 1.0e-13_rp, .false.)
+
+    ! the stationary iteration on the systems
+    p = amg_params_t()
+    p%precision = 'double'
+    ps = p
+    ps%precision = 'single'
+    call md%setup(a, p, st)
+    call ms%setup(a, ps, st)
+    allocate(b(a%n_rows))
+    call fill_test_vector(a, b)
+    call stationary(comm, a, md, b, 30, cd, rd)
+    call stationary(comm, a, ms, b, 30, cs, rs)
+    if (comm%rank == 0) write(*, '(a,i0,a,es10.3,a,i0,a,es10.3)') '  single: stationary iteration, double ', &
+      cd, ' cycles (', rd, '), single ', cs, ' cycles (', rs, ')'
+    call suite%assert_true(cs == cd .and. rs <= 1.0e-6_rp, 'single: the stationary iteration takes as many '// &
+                           'cycles as in double')
+    call md%free()
+    call ms%free()
+
+    ! a lagged refresh
+    call from_csr(a, g)
+    call src%init(a, g, 0.0_rp)
+    call md%setup_rows(src, p, st)
+    call ms%setup_rows(src, ps, st)
+    allocate(x(a%n_rows), zd(a%n_rows), zs(a%n_rows))
+    call fill_test_vector(a, x)
+    call ms%apply(x, zd)
+    call ms%refresh_rows(src, st)
+    call ms%apply(x, zs)
+    call suite%assert_true(c_single(comm, ms), 'single: a refresh keeps the single-precision values')
+    call suite%assert_true(st%ok(), 'single: the refresh succeeds')
+    call suite%assert_close_array(zs, zd, 1.0e-14_rp * comm%max(maxval(abs(zd))), &
+                                  'single: a refresh with the same values keeps the cycle')
+    src%alpha_g = 0.25_rp
+    call ms%refresh_rows(src, st)
+    call md%refresh_rows(src, st)
+    call ms%apply(x, zs)
+    call md%apply(x, zd)
+    call suite%assert_close_array(zs, zd, 1.0e-6_rp * comm%max(maxval(abs(zd))), &
+                                  "single: a refresh to 1.25 A gives the double lagged cycle's to 1e-6")
+    call suite%assert_true(comm%max(maxval(abs(zs - zd))) > 0.0_rp, 'single: ... and reads the new float values')
+    call md%free()
+    call ms%free()
+    call g%free()
+    call a%free()
+    call a1%free()
+    call big%free()
+    call tiny_a%free()
+
+  end subroutine test_single
+
+  !> true on every rank when m holds single-precision values
+  logical function c_single(comm, m)
+    type(parallel_comm_t), intent(in) :: comm
+    type(boomeramg_precon_t), intent(in) :: m
+    c_single = .not. comm%any_true(.not. c_associated(m%compact))
+  end function c_single
+
+  !> M^-1 x by geoblock's cycle on m in double and in single precision:
+  !> apart by at most tol of the largest entry, and apart at all (moves).
+  subroutine compare_single(suite, comm, m, q, label, tol, moves)
+    type(test_suite_t), intent(inout) :: suite
+    type(parallel_comm_t), intent(in) :: comm
+    type(csr_matrix_t), intent(inout) :: m
+    type(amg_params_t), intent(in) :: q
+    character(len=*), intent(in) :: label
+    real(rp), intent(in) :: tol
+    logical, intent(in) :: moves
+    type(boomeramg_precon_t) :: d, s1
+    type(amg_params_t) :: qs, qd
+    type(error_status_t) :: sd, ss
+    real(rp), allocatable :: v(:), z1(:), z2(:)
+    real(rp) :: diff, scale
+    allocate(v(m%n_rows), z1(m%n_rows), z2(m%n_rows))
+    call fill_test_vector(m, v)
+    qd = q
+    qd%precision = 'double'
+    qs = q
+    qs%precision = 'single'
+    call d%setup(m, qd, sd)
+    call s1%setup(m, qs, ss)
+    call suite%assert_true(sd%ok() .and. ss%ok() .and. d%own_cycle .and. s1%own_cycle, &
+                           'single, '//label//": both set-ups succeed in geoblock's cycle")
+    if (.not. (sd%ok() .and. ss%ok())) return
+    call d%apply(v, z1)
+    call s1%apply(v, z2)
+    diff = comm%max(maxval(abs(z2 - z1)))
+    scale = comm%max(maxval(abs(z1)))
+    if (comm%rank == 0) write(*, '(a,es10.3,a,es10.3)') '  single, '//label//': max |z_single - z_double| ', &
+      diff, ' of max |z_double| ', scale
+    call suite%assert_true(scale > 0.0_rp .and. diff <= tol * scale, 'single, '//label//': M^-1 x agrees '// &
+                           'with the double cycle''s within its tolerance')
+    if (moves) call suite%assert_true(diff > 0.0_rp, 'single, '//label//': the float values are read')
+    call suite%assert_true(s1%apply_errors == 0, 'single, '//label//': no hypre error while applying')
+    call d%free()
+    call s1%free()
+  end subroutine compare_single
+
   !> M^-1 x by geoblock's cycle (q as given, cycle_code 'geoblock') and by
   !> hypre's (cycle_code 'hypre') on a; they agree to 1e-12.
   subroutine compare_cycles(suite, comm, a, q, label)
@@ -601,16 +740,18 @@ contains
     type(amg_params_t), intent(in) :: q
     character(len=*), intent(in) :: label
     type(boomeramg_precon_t) :: own, ref
-    type(amg_params_t) :: qh
+    type(amg_params_t) :: qh, qd
     type(error_status_t) :: st, sth
     real(rp), allocatable :: x(:), z(:), zh(:)
     real(rp) :: diff, scale
 
     allocate(x(a%n_rows), z(a%n_rows), zh(a%n_rows))
     call fill_test_vector(a, x)
+    qd = q
+    qd%precision = 'double'
     qh = q
     qh%cycle_code = 'hypre'
-    call own%setup(a, q, st)
+    call own%setup(a, qd, st)
     call ref%setup(a, qh, sth)
     call suite%assert_true(st%ok() .and. sth%ok(), 'own cycle, '//label//': both set-ups succeed')
     if (.not. (st%ok() .and. sth%ok())) return
