@@ -38,20 +38,25 @@
  *                                    norms (and its single-precision copy
  *                                    where compact holds one); the coarse
  *                                    levels stay (a lagged hierarchy)
- * gb_amg_compact_create(solver)      single-precision copies of the values
- *                                    of every level's matrix but the
- *                                    coarsest (NULL: none); hypre's double
- *                                    values of the levels between the
- *                                    finest and the coarsest are freed as
- *                                    their copies are made: afterwards only
- *                                    this cycle, with the copies, may run
- *                                    the hierarchy
- * gb_amg_compact_free(compact)       frees the copies
+ * gb_amg_compact_create(solver, old) the values of every level's matrix but
+ *                                    the coarsest in single precision
+ *                                    (NULL: none): the finest level's in
+ *                                    buffers of their own, taken over from
+ *                                    old (the last set-up's, or NULL), the
+ *                                    coarse levels' in place, in hypre's
+ *                                    arrays: afterwards only this cycle,
+ *                                    with compact, may run the hierarchy
+ * gb_amg_compact_free(compact)       frees compact's buffers
  *
  * Single precision (&amg precision = 'single'): the sweeps and the
- * residual of a level read its matrix's values from a float copy (4 bytes
- * an entry instead of 8; with the 4-byte column index, 8 bytes instead of
- * 12), and sum them in double precision against double vectors. The
+ * residual of a level read its matrix's values as floats (4 bytes an entry
+ * instead of 8; with the 4-byte column index, 8 bytes instead of 12), and
+ * sum them in double precision against double vectors. The coarse levels
+ * are converted in place, in hypre's arrays (no new memory, no fresh
+ * pages: a first version's copies cost 0.8 s of page faults and copying
+ * per set-up of the seed's nine fractures' S**); the finest level, whose
+ * doubles are the IJ matrix the rest of geoblock uses, is copied into
+ * buffers that the next set-up takes over. The
  * cycle is then the same V-cycle for the matrices rounded to single
  * precision (relative change 6e-8 an entry): still a fixed, symmetric
  * preconditioner, whose quality the rounding does not touch. The
@@ -190,6 +195,10 @@ typedef struct
   float **diag, **offd;
   HYPRE_Real *buf, *ext;
   HYPRE_Int n_buf, n_ext;
+  /* the finest level's copies (owned, kept from one set-up to the next,
+     so that a new hierarchy does not touch fresh pages) and their room */
+  float *fine_diag, *fine_offd;
+  size_t n_fine_diag, n_fine_offd;
 } gb_compact;
 
 /* One l1 hybrid Gauss-Seidel sweep on the rank's rows, forward (dir > 0)
@@ -333,112 +342,154 @@ int gb_amg_cycle(void *solver, void *compact, void *par_b, void *par_x)
   return hypre_error_flag;
 }
 
-/* A float copy of the n values a, or NULL when one of them is not a normal
-   single-precision number (nor zero; NaN neither), or there is no memory.
-   One pass: the check has no early exit, so that the loop vectorizes. */
-static float *single_copy(const HYPRE_Real *a, HYPRE_Int n)
+/* 1 when every nonzero of the n values a is a normal single-precision
+   number (NaN is not). No early exit: the loop vectorizes. */
+static int single_fits(const HYPRE_Real *a, HYPRE_Int n)
 {
-  float *s;
   HYPRE_Int k;
   int bad = 0;
-  if (n > 0 && a == NULL) return NULL;
-  s = (float *) malloc(sizeof(float) * (size_t) (n > 0 ? n : 1));
-  if (s == NULL) return NULL;
+  if (n > 0 && a == NULL) return 0;
   for (k = 0; k < n; k++)
   {
     const HYPRE_Real m = fabs(a[k]);
     bad |= (m != 0.0) & !((m >= FLT_MIN) & (m <= FLT_MAX));
-    s[k] = (float) a[k];
   }
-  if (!bad) return s;
-  free(s);
-  return NULL;
+  return !bad;
 }
 
-/* Level l's single-precision values into c (both parts, or neither). */
+/* The n values a as floats into *s (room *room, grown as needed); 0 when
+   there is no memory. */
+static int copy_into(const HYPRE_Real *a, HYPRE_Int n, float **s, size_t *room)
+{
+  HYPRE_Int k;
+  const size_t need = (size_t) (n > 0 ? n : 1);
+  if (*room < need)
+  {
+    float *t = (float *) realloc(*s, sizeof(float) * need);
+    if (t == NULL) return 0;
+    *s = t;
+    *room = need;
+  }
+  for (k = 0; k < n; k++) (*s)[k] = (float) a[k];
+  return 1;
+}
+
+/* The values of a coarse level's part as floats in place, in the first half
+   of hypre's own array (going up, each float lands on bytes already read);
+   hypre frees the array as before. The doubles are gone: only this cycle
+   reads the level afterwards. */
+static float *convert_in_place(hypre_CSRMatrix *part)
+{
+  enum { CHUNK = 1024 };
+  HYPRE_Real *a = hypre_CSRMatrixData(part);
+  const HYPRE_Int n = hypre_CSRMatrixNumNonzeros(part);
+  float chunk[CHUNK];
+  HYPRE_Int k, m, j;
+  if (n == 0 || a == NULL) return (float *) a;
+  /* through a local chunk and memcpy, which may alias a: every float is
+     stored after the doubles it overwrites were read */
+  for (k = 0; k < n; k += m)
+  {
+    m = (n - k < CHUNK) ? n - k : CHUNK;
+    for (j = 0; j < m; j++) chunk[j] = (float) a[k + j];
+    memcpy((char *) a + sizeof(float) * (size_t) k, chunk, sizeof(float) * (size_t) m);
+  }
+  return (float *) a;
+}
+
+/* Level l's values in single precision: the finest level into c's own
+   buffers (hypre's doubles stay: they are the IJ matrix), a coarse level
+   in place; a level with a value out of range (or, for the finest, no
+   memory) keeps its doubles (NULL). */
 static void compact_level(gb_compact *c, hypre_ParCSRMatrix *A, HYPRE_Int l)
 {
-  const hypre_CSRMatrix *diag = hypre_ParCSRMatrixDiag(A), *offd = hypre_ParCSRMatrixOffd(A);
-  free(c->diag[l]);
-  free(c->offd[l]);
+  hypre_CSRMatrix *diag = hypre_ParCSRMatrixDiag(A), *offd = hypre_ParCSRMatrixOffd(A);
   c->diag[l] = NULL;
   c->offd[l] = NULL;
-  c->diag[l] = single_copy(hypre_CSRMatrixData(diag), hypre_CSRMatrixNumNonzeros(diag));
-  if (c->diag[l] == NULL) return;
-  c->offd[l] = single_copy(hypre_CSRMatrixData(offd), hypre_CSRMatrixNumNonzeros(offd));
-  if (c->offd[l] != NULL) return;
-  free(c->diag[l]);
-  c->diag[l] = NULL;
+  if (!single_fits(hypre_CSRMatrixData(diag), hypre_CSRMatrixNumNonzeros(diag)) ||
+      !single_fits(hypre_CSRMatrixData(offd), hypre_CSRMatrixNumNonzeros(offd)))
+    return;
+  if (l == 0)
+  {
+    if (!copy_into(hypre_CSRMatrixData(diag), hypre_CSRMatrixNumNonzeros(diag), &c->fine_diag, &c->n_fine_diag) ||
+        !copy_into(hypre_CSRMatrixData(offd), hypre_CSRMatrixNumNonzeros(offd), &c->fine_offd, &c->n_fine_offd))
+      return;
+    c->diag[0] = c->fine_diag;
+    c->offd[0] = c->fine_offd;
+    return;
+  }
+  if (!hypre_CSRMatrixOwnsData(diag) || !hypre_CSRMatrixOwnsData(offd)) return;
+  c->diag[l] = convert_in_place(diag);
+  c->offd[l] = convert_in_place(offd);
 }
 
-/* Frees a level matrix's double values (only geoblock's cycle with its
-   copies reads them afterwards). */
-static void release_level(hypre_ParCSRMatrix *A)
+/* Room for the halo of every level of A (levels matrices) in c's buffers;
+   0 when there is no memory. */
+static int halo_room(gb_compact *c, hypre_ParCSRMatrix **A, HYPRE_Int levels)
 {
-  hypre_CSRMatrix *parts[2];
-  int k;
-  parts[0] = hypre_ParCSRMatrixDiag(A);
-  parts[1] = hypre_ParCSRMatrixOffd(A);
-  for (k = 0; k < 2; k++)
+  HYPRE_Int l, nb = 1, ne = 1;
+  HYPRE_Real *t;
+  for (l = 0; l < levels; l++)
   {
-    if (!hypre_CSRMatrixOwnsData(parts[k])) continue;
-    hypre_TFree(hypre_CSRMatrixData(parts[k]), HYPRE_MEMORY_HOST);
-    hypre_CSRMatrixData(parts[k]) = NULL;
+    const HYPRE_Int s = send_size(A[l]) + 1, e = hypre_CSRMatrixNumCols(hypre_ParCSRMatrixOffd(A[l])) + 1;
+    if (s > nb) nb = s;
+    if (e > ne) ne = e;
   }
+  if (nb > c->n_buf)
+  {
+    t = (HYPRE_Real *) realloc(c->buf, sizeof(HYPRE_Real) * (size_t) nb);
+    if (t == NULL) return 0;
+    c->buf = t;
+    c->n_buf = nb;
+  }
+  if (ne > c->n_ext)
+  {
+    t = (HYPRE_Real *) realloc(c->ext, sizeof(HYPRE_Real) * (size_t) ne);
+    if (t == NULL) return 0;
+    c->ext = t;
+    c->n_ext = ne;
+  }
+  return 1;
 }
 
 void gb_amg_compact_free(void *compact)
 {
   gb_compact *c = (gb_compact *) compact;
-  HYPRE_Int l;
   if (c == NULL) return;
-  for (l = 0; l < c->levels; l++)
-  {
-    free(c->diag[l]);
-    free(c->offd[l]);
-  }
   free(c->diag);
   free(c->offd);
   free(c->buf);
   free(c->ext);
+  free(c->fine_diag);
+  free(c->fine_offd);
   free(c);
 }
 
-void *gb_amg_compact_create(void *solver)
+void *gb_amg_compact_create(void *solver, void *old)
 {
   hypre_ParAMGData *amg = (hypre_ParAMGData *) solver;
   hypre_ParCSRMatrix **A = hypre_ParAMGDataAArray(amg);
   const HYPRE_Int levels = hypre_ParAMGDataNumLevels(amg) - 1;
-  HYPRE_Int l, nb = 1, ne = 1;
-  gb_compact *c;
-  if (levels < 1) return NULL;
-  c = (gb_compact *) calloc(1, sizeof(gb_compact));
-  if (c == NULL) return NULL;
-  c->levels = levels;
-  c->diag = (float **) calloc((size_t) levels, sizeof(float *));
-  c->offd = (float **) calloc((size_t) levels, sizeof(float *));
-  for (l = 0; l < levels; l++)
-  {
-    const HYPRE_Int s = send_size(A[l]), e = hypre_CSRMatrixNumCols(hypre_ParCSRMatrixOffd(A[l]));
-    if (s + 1 > nb) nb = s + 1;
-    if (e + 1 > ne) ne = e + 1;
-  }
-  c->buf = (HYPRE_Real *) malloc(sizeof(HYPRE_Real) * (size_t) nb);
-  c->ext = (HYPRE_Real *) malloc(sizeof(HYPRE_Real) * (size_t) ne);
-  c->n_buf = nb;
-  c->n_ext = ne;
-  if (c->diag == NULL || c->offd == NULL || c->buf == NULL || c->ext == NULL)
+  gb_compact *c = (gb_compact *) old;
+  HYPRE_Int l;
+  if (levels < 1)
   {
     gb_amg_compact_free(c);
     return NULL;
   }
-  /* level by level, each coarse level's double values freed once its
-     copy is made, so that the copies add at most one level to the peak */
-  for (l = 0; l < levels; l++)
+  if (c == NULL) c = (gb_compact *) calloc(1, sizeof(gb_compact));
+  if (c == NULL) return NULL;
+  free(c->diag);
+  free(c->offd);
+  c->levels = levels;
+  c->diag = (float **) calloc((size_t) levels, sizeof(float *));
+  c->offd = (float **) calloc((size_t) levels, sizeof(float *));
+  if (c->diag == NULL || c->offd == NULL || !halo_room(c, A, levels))
   {
-    compact_level(c, A[l], l);
-    if (l > 0 && c->diag[l] != NULL) release_level(A[l]);
+    gb_amg_compact_free(c);
+    return NULL;
   }
+  for (l = 0; l < levels; l++) compact_level(c, A[l], l);
   return c;
 }
 
@@ -460,22 +511,7 @@ int gb_amg_refresh_fine(void *solver, void *compact, void *par_a)
   if (c != NULL)
   {
     /* the new matrix's halo may be larger than the old one's */
-    const HYPRE_Int s = send_size(A) + 1, e = hypre_CSRMatrixNumCols(hypre_ParCSRMatrixOffd(A)) + 1;
-    HYPRE_Real *nb;
-    if (s > c->n_buf)
-    {
-      nb = (HYPRE_Real *) realloc(c->buf, sizeof(HYPRE_Real) * (size_t) s);
-      if (nb == NULL) return 1;
-      c->buf = nb;
-      c->n_buf = s;
-    }
-    if (e > c->n_ext)
-    {
-      nb = (HYPRE_Real *) realloc(c->ext, sizeof(HYPRE_Real) * (size_t) e);
-      if (nb == NULL) return 1;
-      c->ext = nb;
-      c->n_ext = e;
-    }
+    if (!halo_room(c, &A, 1)) return 1;
     compact_level(c, A, 0);
   }
   return hypre_error_flag;

@@ -36,15 +36,16 @@ module amg_cycle_c
       integer(c_int) :: ierr
     end function gb_amg_refresh_fine
 
-    !> Single-precision copies of the values of every level of solver's
-    !> hierarchy but the coarsest (null: no memory or one level; a level
-    !> with a value out of single precision's range keeps its double ones);
-    !> hypre's double values of the levels between the finest and the
-    !> coarsest are freed as their copies are made (only gb_amg_cycle with
-    !> compact may run the hierarchy afterwards).
-    function gb_amg_compact_create(solver) bind(C, name='gb_amg_compact_create') result(compact)
+    !> The values of every level of solver's hierarchy but the coarsest in
+    !> single precision (null: no memory or one level; a level with a value
+    !> out of single precision's range keeps its double ones): the finest
+    !> level's in buffers taken over from old (the last set-up's compact,
+    !> or null; not to be used again), the coarse levels' in place in
+    !> hypre's arrays (only gb_amg_cycle with compact may run the hierarchy
+    !> afterwards).
+    function gb_amg_compact_create(solver, old) bind(C, name='gb_amg_compact_create') result(compact)
       import :: c_ptr
-      type(c_ptr), value :: solver
+      type(c_ptr), value :: solver, old
       type(c_ptr) :: compact
     end function gb_amg_compact_create
 

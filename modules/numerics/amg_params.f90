@@ -66,27 +66,34 @@
 !>                               at 65-76 % of the triad but costs hypre's
 !>                               eigenvalue estimates in every set-up.
 !>   precision single          : geoblock's cycle reads each level's values
-!>                               from float copies (amg_cycle.c; 8 bytes an
-!>                               entry with its column index instead of 12,
-!>                               summed in double against double vectors;
-!>                               the coarse levels' double values are freed,
-!>                               the finest's stay with the IJ matrix). The
-!>                               same counts on every case measured (the
-!>                               rounding moves M^-1 x by 3e-8 of its
-!>                               largest entry), less solve time (2 ranks,
-!>                               2026-12-04, a noisy machine): the cube at
-!>                               n = 64, CG, 26 iterations, 3.2 s against
-!>                               4.0-4.2 s (quiet pairs; 1 rank 4.3-4.4 s
+!>                               in single precision (amg_cycle.c; 8 bytes
+!>                               an entry with its column index instead of
+!>                               12, summed in double against double
+!>                               vectors): the coarse levels converted in
+!>                               place in hypre's arrays, the finest copied
+!>                               into buffers kept from one set-up to the
+!>                               next (hypre's doubles of it are the IJ
+!>                               matrix). The same counts on every case
+!>                               measured (the rounding moves M^-1 x by
+!>                               3e-8 of its largest entry), less solve
+!>                               time (2 ranks, 2026-12-04, a busy machine,
+!>                               pairs run one after the other): the cube
+!>                               at n = 64, CG, 26 iterations, 3.2 s
+!>                               against 4.0-4.2 s (1 rank 4.3-4.4 s
 !>                               against 5.3-5.6 s); Mandel at the seed's
 !>                               size, gamma 1, 29 FGMRES iterations, 1.04-
 !>                               1.06 s against 1.23-1.27 s; the nine
 !>                               fractures on 34 x 34 x 69 cells, the same
-!>                               Newton counts, statuses and FGMRES counts
-!>                               within 0.4 %, 85 s against 100 s in the
-!>                               same hour. Costs: a pass over the
-!>                               hierarchy per set-up (0.15 s on the cube)
-!>                               and the finest level's copy (+13 % peak on
-!>                               the cube, +3.5 % on the nine fractures).
+!>                               Newton counts and end state, FGMRES 1,599
+!>                               against 1,593, 73 and 85 s against 103
+!>                               and 107 s. Costs: a pass over the
+!>                               hierarchy per set-up and the finest
+!>                               level's copy (+13 % peak on the cube, +5 %
+!>                               on the nine fractures). A first version
+!>                               that copied every level into fresh memory
+!>                               cost 0.8 s of page faults and copying per
+!>                               set-up of S** at the seed's size (55 of
+!>                               them), more than its solve saved there.
 !>   relax_order lexicographic : the Gauss-Seidel sweeps run through the rows
 !>                               once, in their order, rather than hypre's
 !>                               C-then-F order, which walks every level's

@@ -60,7 +60,9 @@ module boomeramg_precon
     integer(gp), allocatable :: level_rows(:)      !< (num_levels) global rows per level, finest first
     real(rp) :: grid_complexity = 0.0_rp           !< sum of level rows / fine rows
     logical :: own_cycle = .false.                 !< apply runs amg_cycle.c's V-cycle (set per set-up)
-    type(c_ptr) :: compact = c_null_ptr            !< its single-precision level values (&amg precision)
+    !> its single-precision level values (&amg precision); the finest
+    !> level's buffers outlive a set-up (the next one takes them over)
+    type(c_ptr) :: compact = c_null_ptr
   contains
     procedure :: setup
     procedure :: setup_rows
@@ -213,7 +215,6 @@ contains
       call status%set('boomeramg_precon%'//what//': setup() was not called')
       return
     end if
-    call free_compact(self)
     if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
     self%solver = c_null_ptr
     if (present(a)) call self%ij%update_values(a, status)
@@ -296,7 +297,6 @@ contains
 
     p = self%params
     no_memory = .false.
-    call free_compact(self)
     if (c_associated(self%solver)) ierr = HYPRE_BoomerAMGDestroy(self%solver)
     self%solver = c_null_ptr
     call free_modes(self)
@@ -341,8 +341,13 @@ contains
     self%own_cycle = .false.
     if (status%ok() .and. lower(p%cycle_code) == 'geoblock') &
       self%own_cycle = .not. self%comm%any_true(gb_amg_cycle_fits(self%solver) /= 1_c_int)
-    ! its level values in single precision where asked (amg_cycle.c)
-    if (self%own_cycle .and. lower(p%precision) == 'single') self%compact = gb_amg_compact_create(self%solver)
+    ! its level values in single precision where asked (amg_cycle.c; the
+    ! finest level's buffers of the last set-up are taken over)
+    if (self%own_cycle .and. lower(p%precision) == 'single') then
+      self%compact = gb_amg_compact_create(self%solver, self%compact)
+    else
+      call free_compact(self)
+    end if
     ! the sizes of the previous hierarchy no longer hold
     self%num_levels = 0
     if (allocated(self%level_rows)) deallocate(self%level_rows)
