@@ -69,12 +69,31 @@ def parse(path):
         raise SystemExit(f'solve_bytes.py: {path}: no hypre set-up statistics (&amg print_level = 1?)')
     types = re.search(r'Type 0=Jac.*: +(\d+) +(\d+) +(\d+)', text)
     relax = (int(types.group(1)), int(types.group(2))) if types else (13, 14)
-    single = (re.search(r"precision *= 'single'", text) is not None
-              and re.search(r"cycle_code *= 'geoblock'", text) is not None and relax == (13, 14))
+    params = text + run_parameters(text)
+    single = (re.search(r"precision *= 'single'", params) is not None
+              and re.search(r"cycle_code *= 'geoblock'", params) is not None and relax == (13, 14))
     step = re.search(r'iterations +(\d+) .* solve +([0-9.]+) s', text)
     if not step:
         raise SystemExit(f'solve_bytes.py: {path}: no step line with iterations and solve time')
     return n, nnz, levels, interp, int(step.group(1)), float(step.group(2)), relax, single
+
+
+def run_parameters(text):
+    """The run's parameters file (every deck variable with its value: the
+    &output dir and prefix of the deck the log names), or '' when not found."""
+    m = re.search(r'^deck: (\S+), ranks', text, re.M)
+    try:
+        deck = open(m.group(1)).read() if m else ''
+    except OSError:
+        return ''
+    d = re.search(r"dir *= *'([^']*)'", deck)
+    pre = re.search(r"prefix *= *'([^']*)'", deck)
+    if not (d and pre):
+        return ''
+    try:
+        return open(f'{d.group(1)}/{pre.group(1)}_parameters.nml').read()
+    except OSError:
+        return ''
 
 
 def csr(nnz, rows, value_bytes=8):
