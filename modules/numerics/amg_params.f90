@@ -86,10 +86,12 @@
 !>                               fractures on 34 x 34 x 69 cells, the same
 !>                               Newton counts and end state, FGMRES 1,599
 !>                               against 1,593, 73 and 85 s against 103
-!>                               and 107 s. Costs: a pass over the
+!>                               and 107 s; at the seed's size 229 s
+!>                               against 279 s (the run 492 s against
+!>                               535 s). Costs: a pass over the
 !>                               hierarchy per set-up and the finest
-!>                               level's copy (+13 % peak on the cube, +5 %
-!>                               on the nine fractures). A first version
+!>                               level's copy (+13 % peak on the cube, +8 %
+!>                               on the seed's nine fractures). A first version
 !>                               that copied every level into fresh memory
 !>                               cost 0.8 s of page faults and copying per
 !>                               set-up of S** at the seed's size (55 of
