@@ -316,7 +316,9 @@ int gb_amg_cycle(void *solver, void *compact, void *par_b, void *par_x)
   const HYPRE_Int coarsest = num_levels - 1;
   HYPRE_Int l, s;
 
-  if (c != NULL && c->levels != coarsest) c = NULL;
+  /* the copies belong to this hierarchy (its coarse levels hold floats:
+     no double cycle can run them any more) */
+  if (c != NULL && c->levels != coarsest) return 1;
   F[0] = (hypre_ParVector *) par_b;
   U[0] = (hypre_ParVector *) par_x;
   hypre_ParVectorSetConstantValues(U[0], 0.0);
@@ -357,12 +359,15 @@ static int single_fits(const HYPRE_Real *a, HYPRE_Int n)
   return !bad;
 }
 
-/* The n values a as floats into *s (room *room, grown as needed); 0 when
-   there is no memory. */
+/* The n values a as floats into *s (room *room, grown as needed), in the
+   pass that checks them; 0 when one is not a normal single-precision
+   number (nor zero) or there is no memory. */
 static int copy_into(const HYPRE_Real *a, HYPRE_Int n, float **s, size_t *room)
 {
   HYPRE_Int k;
+  int bad = 0;
   const size_t need = (size_t) (n > 0 ? n : 1);
+  if (n > 0 && a == NULL) return 0;
   if (*room < need)
   {
     float *t = (float *) realloc(*s, sizeof(float) * need);
@@ -370,8 +375,13 @@ static int copy_into(const HYPRE_Real *a, HYPRE_Int n, float **s, size_t *room)
     *s = t;
     *room = need;
   }
-  for (k = 0; k < n; k++) (*s)[k] = (float) a[k];
-  return 1;
+  for (k = 0; k < n; k++)
+  {
+    const HYPRE_Real m = fabs(a[k]);
+    bad |= (m != 0.0) & !((m >= FLT_MIN) & (m <= FLT_MAX));
+    (*s)[k] = (float) a[k];
+  }
+  return !bad;
 }
 
 /* The values of a coarse level's part as floats in place, in the first half
@@ -406,9 +416,6 @@ static void compact_level(gb_compact *c, hypre_ParCSRMatrix *A, HYPRE_Int l)
   hypre_CSRMatrix *diag = hypre_ParCSRMatrixDiag(A), *offd = hypre_ParCSRMatrixOffd(A);
   c->diag[l] = NULL;
   c->offd[l] = NULL;
-  if (!single_fits(hypre_CSRMatrixData(diag), hypre_CSRMatrixNumNonzeros(diag)) ||
-      !single_fits(hypre_CSRMatrixData(offd), hypre_CSRMatrixNumNonzeros(offd)))
-    return;
   if (l == 0)
   {
     if (!copy_into(hypre_CSRMatrixData(diag), hypre_CSRMatrixNumNonzeros(diag), &c->fine_diag, &c->n_fine_diag) ||
@@ -418,6 +425,10 @@ static void compact_level(gb_compact *c, hypre_ParCSRMatrix *A, HYPRE_Int l)
     c->offd[0] = c->fine_offd;
     return;
   }
+  /* in place the doubles are lost: every value is checked first */
+  if (!single_fits(hypre_CSRMatrixData(diag), hypre_CSRMatrixNumNonzeros(diag)) ||
+      !single_fits(hypre_CSRMatrixData(offd), hypre_CSRMatrixNumNonzeros(offd)))
+    return;
   if (!hypre_CSRMatrixOwnsData(diag) || !hypre_CSRMatrixOwnsData(offd)) return;
   c->diag[l] = convert_in_place(diag);
   c->offd[l] = convert_in_place(offd);
