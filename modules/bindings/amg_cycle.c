@@ -38,6 +38,13 @@
  *                                    norms (and its single-precision copy
  *                                    where compact holds one); the coarse
  *                                    levels stay (a lagged hierarchy)
+ * gb_amg_regalerkin(solver, par_a)   the finest level becomes par_a and
+ *                                    every coarse level P^T A P anew with
+ *                                    the interpolation of the set-up,
+ *                                    with the l1 norms and the coarsest
+ *                                    level's Gaussian elimination (its
+ *                                    single-precision copies are then to
+ *                                    be made anew)
  * gb_amg_compact_create(solver, old) the values of every level's matrix but
  *                                    the coarsest in single precision
  *                                    (NULL: none): the finest level's in
@@ -525,5 +532,59 @@ int gb_amg_refresh_fine(void *solver, void *compact, void *par_a)
     if (!halo_room(c, &A, 1)) return 1;
     compact_level(c, A, 0);
   }
+  return hypre_error_flag;
+}
+
+/* The coarse levels anew for the finest level's new matrix, with the
+   interpolation of the last set-up: A_{l+1} = P_l^T A_l P_l (hypre's
+   Galerkin product, the call of its set-up), their l1 norms, the coarsest
+   level's gathered matrix for Gaussian elimination, and the single-
+   What is saved against a new set-up: the strength graphs, the
+   coarsening and the interpolation. */
+int gb_amg_regalerkin(void *solver, void *par_a)
+{
+  hypre_ParAMGData *amg = (hypre_ParAMGData *) solver;
+  hypre_ParCSRMatrix **A = hypre_ParAMGDataAArray(amg);
+  hypre_ParCSRMatrix **P = hypre_ParAMGDataPArray(amg);
+  hypre_Vector **l1 = hypre_ParAMGDataL1Norms(amg);
+  const HYPRE_Int num_levels = hypre_ParAMGDataNumLevels(amg);
+  hypre_ParCSRMatrix *An = (hypre_ParCSRMatrix *) par_a;
+  MPI_Comm gs_comm = hypre_ParAMGDataNewComm(amg);
+  HYPRE_Int l;
+  int procs;
+  if (num_levels < 2 || l1 == NULL) return 1;
+  if (hypre_CSRMatrixNumRows(hypre_ParCSRMatrixDiag(An)) != hypre_VectorSize(l1[0])) return 1;
+  MPI_Comm_size(hypre_ParCSRMatrixComm(An), &procs);
+  A[0] = An;
+  if (hypre_ParCSRMatrixCommPkg(An) == NULL) hypre_MatvecCommPkgCreate(An);
+  for (l = 0; l < num_levels - 1; l++)
+  {
+    hypre_ParCSRMatrix *AH = NULL;
+    hypre_BoomerAMGBuildCoarseOperatorKT(P[l], A[l], P[l], 0, &AH);
+    if (AH == NULL) return 1;
+    if (procs > 1 && hypre_ParCSRMatrixCommPkg(AH) == NULL) hypre_MatvecCommPkgCreate(AH);
+    hypre_ParCSRMatrixSetNumNonzeros(AH);
+    hypre_ParCSRMatrixSetDNumNonzeros(AH);
+    hypre_ParCSRMatrixDestroy(A[l + 1]);
+    A[l + 1] = AH;
+  }
+  /* the l1 norms hypre's set-up computes for relax types 13 and 14 */
+  for (l = 0; l < num_levels - 1; l++)
+  {
+    HYPRE_Real *norms = NULL;
+    hypre_ParCSRComputeL1Norms(A[l], 4, NULL, &norms);
+    memcpy(hypre_VectorData(l1[l]), norms, sizeof(HYPRE_Real) * (size_t) hypre_VectorSize(l1[l]));
+    hypre_TFree(norms, HYPRE_MEMORY_HOST);
+  }
+  /* the coarsest level's dense copy, gathered anew (hypre_GaussElimSetup) */
+  hypre_TFree(hypre_ParAMGDataAMat(amg), HYPRE_MEMORY_HOST);
+  hypre_TFree(hypre_ParAMGDataBVec(amg), HYPRE_MEMORY_HOST);
+  hypre_TFree(hypre_ParAMGDataCommInfo(amg), HYPRE_MEMORY_HOST);
+  hypre_ParAMGDataAMat(amg) = NULL;
+  hypre_ParAMGDataBVec(amg) = NULL;
+  hypre_ParAMGDataCommInfo(amg) = NULL;
+  if (gs_comm != hypre_MPI_COMM_NULL) hypre_MPI_Comm_free(&gs_comm);
+  hypre_ParAMGDataNewComm(amg) = hypre_MPI_COMM_NULL;
+  hypre_GaussElimSetup(amg, num_levels - 1, COARSE_TYPE);
   return hypre_error_flag;
 }

@@ -7,7 +7,7 @@ module amg_cycle_c
   use, intrinsic :: iso_c_binding, only: c_ptr, c_int
   implicit none
   private
-  public :: gb_amg_cycle_fits, gb_amg_cycle, gb_amg_refresh_fine
+  public :: gb_amg_cycle_fits, gb_amg_cycle, gb_amg_refresh_fine, gb_amg_regalerkin
   public :: gb_amg_compact_create, gb_amg_compact_free
 
   interface
@@ -35,6 +35,17 @@ module amg_cycle_c
       type(c_ptr), value :: solver, compact, a
       integer(c_int) :: ierr
     end function gb_amg_refresh_fine
+
+    !> The coarse levels of solver's hierarchy anew for its finest level's
+    !> new matrix a (same rows), with the last set-up's interpolation:
+    !> A_l+1 = P_l^T A_l P_l, their l1 norms, the coarsest level's Gaussian
+    !> elimination. Single-precision values are gone afterwards (make them
+    !> with gb_amg_compact_create). 0 on success. Collective.
+    function gb_amg_regalerkin(solver, a) bind(C, name='gb_amg_regalerkin') result(ierr)
+      import :: c_ptr, c_int
+      type(c_ptr), value :: solver, a
+      integer(c_int) :: ierr
+    end function gb_amg_regalerkin
 
     !> The values of every level of solver's hierarchy but the coarsest in
     !> single precision (null: no memory or one level; a level with a value

@@ -37,6 +37,22 @@ module hypre_ij
 
   public :: hypre_ij_t, ij_rows_t, csr_rows_t, hypre_error_text, hypre_check
 
+  interface
+    !> ij_overwrite.c: new values of rows(1:nrows) (ncols entries each,
+    !> 0-based global columns) into the assembled matrix par_a where its
+    !> assembly put the same entries; 0 when all fit the stored pattern.
+    function gb_ij_overwrite(par_a, nrows, ncols, rows, cols, values) bind(C, name='gb_ij_overwrite') &
+        result(ierr)
+      import :: c_ptr, hypre_int, hypre_bigint, hypre_real
+      type(c_ptr), value :: par_a
+      integer(hypre_int), value :: nrows
+      integer(hypre_int), intent(in) :: ncols(*)
+      integer(hypre_bigint), intent(in) :: rows(*), cols(*)
+      real(hypre_real), intent(in) :: values(*)
+      integer(hypre_int) :: ierr
+    end function gb_ij_overwrite
+  end interface
+
   !> A square matrix given row by row: row_map holds its owned rows (its
   !> columns are split among ranks alike), row(i) makes owned row i.
   type, abstract :: ij_rows_t
@@ -88,6 +104,7 @@ module hypre_ij
     integer(hypre_bigint), allocatable :: rows(:)   !< (n_rows) 0-based global row ids
     integer(hypre_int), allocatable :: ncols(:)     !< (n_rows) entries per row
     integer(gp) :: pattern_key = 0              !< fingerprint of the global column ids (pattern_of)
+    integer :: overwrites = 0                   !< rebuild_rows that wrote into the matrix in place
     !> entries given to hypre at a time, at least (whole rows); kept by free()
     integer(ip) :: block_entries = 2**18
   contains
@@ -266,8 +283,10 @@ contains
   end subroutine update_values
 
   !> New values, and maybe a new pattern, of the matrix over the same owned
-  !> rows, row by row, in a new IJ matrix (par_a changes; the vectors stay).
-  !> Collective; status reports other owned rows or a hypre failure.
+  !> rows, row by row: written into hypre's arrays when every row has the
+  !> pattern it had (par_a stays; counted in overwrites), else in a new IJ
+  !> matrix (par_a changes). The vectors stay. Collective; status reports
+  !> other owned rows or a hypre failure.
   subroutine rebuild_rows(self, src, status)
     class(hypre_ij_t), intent(inout) :: self
     class(ij_rows_t), intent(in) :: src
@@ -286,11 +305,18 @@ contains
       return
     end if
     ierr = HYPRE_ClearAllErrors()
-    ! a new IJ matrix rather than new values into the assembled one: hypre
-    ! looks every value's column up by a linear search of its row there,
-    ! which made the refresh of HI24L's or the contact block's S* the
-    ! slower (contact n = 40, 2 ranks: the whole run 0.90-0.95x the wall time,
-    ! farm-bench pairs, medians of 5 in two calls; the same residuals)
+    ! the same pattern (the rows given in the same order): the new values
+    ! straight into hypre's arrays (ij_overwrite.c)
+    if (overwrite(self, src)) then
+      self%overwrites = self%overwrites + 1
+      return
+    end if
+    ! else a new IJ matrix rather than new values into the assembled one
+    ! through hypre: it looks every value's column up by a linear search of
+    ! its row there, which made the refresh of HI24L's or the contact
+    ! block's S* the slower (contact n = 40, 2 ranks: the whole run
+    ! 0.90-0.95x the wall time, farm-bench pairs, medians of 5 in two
+    ! calls; the same residuals)
     ierr = HYPRE_IJMatrixDestroy(self%ij_a)
     self%ij_a = c_null_ptr
     self%par_a = c_null_ptr
@@ -298,6 +324,42 @@ contains
     call build_matrix(self, src)
     call hypre_check(self%comm, HYPRE_GetError(), 'hypre_ij%update_values', status)
   end subroutine rebuild_rows
+
+  !> src's values into the assembled matrix, a block of rows at a time, as
+  !> build_matrix gives them (gb_ij_overwrite checks every entry against
+  !> the stored pattern): .true. on every rank when every row fitted, else
+  !> .false. on every rank (the matrix is then to be built anew).
+  !> Collective.
+  logical function overwrite(self, src) result(done)
+    type(hypre_ij_t), intent(inout) :: self
+    class(ij_rows_t), intent(in) :: src
+    integer(hypre_bigint), allocatable :: gcol(:)
+    real(rp), allocatable :: val(:), rv(:)
+    integer(gp), allocatable :: rg(:)
+    integer(hypre_int), allocatable :: nc(:)
+    integer(ip) :: i, i0, n, m, mx
+    logical :: bad
+    mx = max(src%max_row(), 1)
+    allocate(rg(mx), rv(mx), nc(self%n_rows))
+    allocate(gcol(min(self%nnz, self%block_entries) + mx), val(min(self%nnz, self%block_entries) + mx))
+    bad = .false.
+    i0 = 1
+    m = 0
+    do i = 1, self%n_rows
+      call src%row(i, rg, rv, n)
+      nc(i) = int(n, hypre_int)
+      gcol(m + 1:m + n) = int(rg(1:n) - 1, hypre_bigint)
+      val(m + 1:m + n) = rv(1:n)
+      m = m + n
+      if (m < self%block_entries .and. i < self%n_rows) cycle
+      bad = gb_ij_overwrite(self%par_a, int(i - i0 + 1, hypre_int), nc(i0:i), self%rows(i0:i), gcol, val) /= 0
+      if (bad) exit
+      i0 = i + 1
+      m = 0
+    end do
+    done = .not. self%comm%any_true(bad)
+    if (done) self%ncols = nc
+  end function overwrite
 
   !> The IJ matrix of src (rows set; ncols and nnz set here), assembled:
   !> sized row by row into its diagonal and off-diagonal blocks, so that

@@ -21,8 +21,8 @@ module boomeramg_precon
   use precon, only: precon_t
   use amg_params, only: amg_params_t, amg_line_len
   use hypre_ij, only: hypre_ij_t, ij_rows_t, hypre_check
-  use amg_cycle_c, only: gb_amg_cycle_fits, gb_amg_cycle, gb_amg_refresh_fine, gb_amg_compact_create, &
-                         gb_amg_compact_free
+  use amg_cycle_c, only: gb_amg_cycle_fits, gb_amg_cycle, gb_amg_refresh_fine, gb_amg_regalerkin, &
+                         gb_amg_compact_create, gb_amg_compact_free
   use index_map, only: index_map_t
   use strings, only: lower
   use hypre_c, only: HYPRE_MEMORY_HOST, HYPRE_BoomerAMGSetRelaxOrder, HYPRE_ClearAllErrors, HYPRE_GetError, hypre_CAlloc, &
@@ -170,22 +170,35 @@ contains
 
   !> A lagged update (geoblock's cycle only; otherwise update_rows): hypre's
   !> copy of the matrix anew from src (the same rows), and the hierarchy's
-  !> finest level on it, with its l1 norms; the coarse levels stay those of
-  !> the last set-up. Collective; setup_time is the time of this refresh.
-  subroutine refresh_rows(self, src, status)
+  !> finest level on it, with its l1 norms. The coarse levels stay those of
+  !> the last set-up, or with galerkin = .true. are made anew from the new
+  !> matrix with the last set-up's interpolation (P^T A P level by level:
+  !> hypre's strength, coarsening and interpolation are saved, not its
+  !> Galerkin products). Collective; setup_time is the time of this refresh.
+  subroutine refresh_rows(self, src, status, galerkin)
     class(boomeramg_precon_t), intent(inout), target :: self
     class(ij_rows_t), intent(in) :: src
     type(error_status_t), intent(inout) :: status
+    logical, intent(in), optional :: galerkin
     real(rp) :: t0
+    logical :: coarse
     if (.not. self%own_cycle) then
       call self%update_rows(src, status)
       return
     end if
+    coarse = .false.
+    if (present(galerkin)) coarse = galerkin
     t0 = wall_time()
     call self%ij%rebuild_rows(src, status)
     if (.not. status%ok()) return
-    call hypre_check(self%comm, int(gb_amg_refresh_fine(self%solver, self%compact, self%ij%par_a), hypre_int), &
-                     'boomeramg_precon: the finest level of a lagged hierarchy', status)
+    if (coarse) then
+      call hypre_check(self%comm, int(gb_amg_regalerkin(self%solver, self%ij%par_a), hypre_int), &
+                       'boomeramg_precon: the coarse levels of a hierarchy by its interpolation', status)
+      if (c_associated(self%compact)) self%compact = gb_amg_compact_create(self%solver, self%compact)
+    else
+      call hypre_check(self%comm, int(gb_amg_refresh_fine(self%solver, self%compact, self%ij%par_a), hypre_int), &
+                       'boomeramg_precon: the finest level of a lagged hierarchy', status)
+    end if
     self%setup_time = wall_time() - t0
   end subroutine refresh_rows
 

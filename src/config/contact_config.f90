@@ -87,10 +87,14 @@
 !>                  otherwise                                         [.true.]
 !>   amg_lag        FGMRES with 'reordered': the BoomerAMG hierarchy of S*
 !>                  (S**) is built anew every amg_lag Newton iterations and
-!>                  at every step's first one;
-!>                  in between only its finest level takes the new S*
-!>                  (values and l1 norms; geoblock's cycle only), its
-!>                  coarse levels are those of the last build, 1..100   [1]
+!>                  at every step's first one; in between it is refreshed
+!>                  for the new S* (amg_refresh; geoblock's cycle
+!>                  only), 1..100                                       [1]
+!>   amg_refresh    with amg_lag > 1, what a refresh between two builds
+!>                  renews: 'fine' (the finest level only) or 'galerkin'
+!>                  (every level: the coarse ones as P^T A P with the
+!>                  interpolation of the last build; its strength graphs,
+!>                  coarsening and interpolation are what is saved)  ['fine']
 module contact_config
   use kinds, only: rp, name_len, msg_len
   use error_status, only: error_status_t
@@ -123,6 +127,7 @@ module contact_config
     integer :: max_cuts = 8
     logical :: reuse = .true.
     integer :: amg_lag = 1
+    character(len=name_len) :: amg_refresh = 'fine'
   contains
     procedure :: read => read_contact_config
     procedure :: resolve_schur_solve
@@ -137,14 +142,15 @@ contains
     type(deck_t), intent(in) :: d
     type(logger_t), intent(inout) :: log
     type(error_status_t), intent(inout) :: status
-    character(len=name_len) :: space, stabilization, block, schur_precon, schur_solve
+    character(len=name_len) :: space, stabilization, block, schur_precon, schur_solve, amg_refresh
     real(rp) :: aug_scale, newton_tol, status_tol, open_fraction, moving_rtol, close_ratio
     integer :: max_newton, max_cuts, schur_its, amg_lag, ios
     logical :: reuse
     character(len=msg_len) :: msg
     character(len=line_len), allocatable :: b(:)
     namelist /contact/ space, stabilization, block, schur_precon, aug_scale, schur_solve, schur_its, max_newton, &
-                       newton_tol, status_tol, open_fraction, moving_rtol, max_cuts, reuse, close_ratio, amg_lag
+                       newton_tol, status_tol, open_fraction, moving_rtol, max_cuts, reuse, close_ratio, amg_lag, &
+                       amg_refresh
 
     ! stabilization and block: '' until the deck sets them (their defaults
     ! follow the space)
@@ -152,7 +158,7 @@ contains
     aug_scale = self%aug_scale; schur_solve = self%schur_solve; max_newton = self%max_newton; newton_tol = self%newton_tol
     status_tol = self%status_tol; max_cuts = self%max_cuts; reuse = self%reuse; schur_its = self%schur_its
     open_fraction = self%open_fraction; moving_rtol = self%moving_rtol; close_ratio = self%close_ratio
-    amg_lag = self%amg_lag
+    amg_lag = self%amg_lag; amg_refresh = self%amg_refresh
     if (d%count('contact') > 0) then
       call d%block('contact', 1, b)
       read(b, nml=contact, iostat=ios, iomsg=msg)
@@ -198,8 +204,10 @@ contains
     if (max_cuts < 0) call d%fail(status, 'contact', 1, 'max_cuts', 'must be >= 0 (got '//itoa(max_cuts)//')')
     if (amg_lag < 1 .or. amg_lag > 100) call d%fail(status, 'contact', 1, 'amg_lag', &
       'must lie in 1..100 (got '//itoa(amg_lag)//')')
+    if (amg_refresh /= 'fine' .and. amg_refresh /= 'galerkin') call d%fail(status, 'contact', 1, 'amg_refresh', &
+      "must be 'fine' or 'galerkin' (got '"//trim(amg_refresh)//"')")
     if (.not. status%ok()) return
-    self%amg_lag = amg_lag
+    self%amg_lag = amg_lag; self%amg_refresh = amg_refresh
     self%open_fraction = open_fraction; self%moving_rtol = moving_rtol; self%close_ratio = close_ratio
     self%space = space; self%stabilization = stabilization; self%block = block; self%schur_precon = schur_precon
     self%aug_scale = aug_scale; self%schur_solve = schur_solve; self%max_newton = max_newton; self%newton_tol = newton_tol
@@ -269,8 +277,11 @@ contains
     call g%add('reuse', self%reuse, '-', "FGMRES: keep the preconditioner's Schur part (S* and its AMG, S_p) "// &
                'while every element sticks, as when it was built')
     call g%add('amg_lag', self%amg_lag, '-', "FGMRES with 'reordered': the BoomerAMG hierarchy of S* (S**) is "// &
-               'built anew every amg_lag Newton iterations and at every step''s first; in between its finest level '// &
-               'takes the new S* '// &
-               "(geoblock's cycle only)", '1..100')
+               'built anew every amg_lag Newton iterations and at every step''s first; in between it is refreshed '// &
+               "for the new S* (amg_refresh; geoblock's cycle only)", '1..100')
+    call g%add('amg_refresh', self%amg_refresh, '-', 'between two builds of amg_lag: only the finest level '// &
+               "takes the new S* ('fine'; the coarse levels are the build's), or every level does, the coarse "// &
+               "ones as P^T A P with the build's interpolation ('galerkin': the Galerkin products of a build "// &
+               'without its coarsening and interpolation)', "'fine' or 'galerkin'")
   end subroutine describe_contact_config
 end module contact_config

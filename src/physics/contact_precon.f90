@@ -358,7 +358,7 @@ contains
       ! cycle); a step's first iteration builds it anew, so that a restart
       ! (at a step) meets the same hierarchies as the run it continues
       if (self%lagged + 1 < ccfg%amg_lag .and. .not. self%step_start .and. old%own_cycle) then
-        call old%refresh_rows(src, status)
+        call old%refresh_rows(src, status, galerkin=ccfg%amg_refresh == 'galerkin')
         self%lagged = self%lagged + 1
       else
         call old%update_rows(src, status)

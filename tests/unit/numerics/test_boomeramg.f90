@@ -17,7 +17,7 @@ program test_boomeramg
   use boomeramg_precon, only: boomeramg_precon_t
   use precon, only: precon_t
   use inner_cg_precon, only: inner_cg_precon_t
-  use global_csr, only: global_csr_t, union_to_csr, add_to_csr, add_csr_to_csr, from_csr
+  use global_csr, only: global_csr_t, union_to_csr, add_to_csr, add_csr_to_csr, from_csr, gcsr_multiply
   use sum_rows, only: sum_rows_t
   use hypre_ij, only: hypre_ij_t
   use assertions, only: test_suite_t
@@ -32,10 +32,13 @@ program test_boomeramg
   call test_params(suite)
   call test_scalar(suite, comm)
   call test_rows(suite, comm)
+  call test_long_rows(suite, comm)
   call test_systems(suite, comm)
   call test_dof_func(suite, comm)
   call test_own_cycle(suite, comm)
   call test_lagged(suite, comm)
+  call test_galerkin(suite, comm, 'double')
+  call test_galerkin(suite, comm, 'single')
   call test_single(suite, comm)
   call suite%finish()
 
@@ -283,6 +286,7 @@ contains
     src%alpha_g = 5.0_rp
     call amg%update_rows(src, st)
     call suite%assert_true(st%ok(), 'rows: update_rows succeeds: '//trim(st%msg))
+    call suite%assert_true(amg%ij%overwrites == 1, 'rows: update_rows with the same pattern writes in place')
     s%val = 0.0_rp
     call add_csr_to_csr(1.0_rp, a, s, fits)
     call add_to_csr(5.0_rp, g, s, fits)
@@ -323,6 +327,69 @@ contains
     call s%free()
     call g%free()
   end subroutine test_rows
+
+  !> sum_rows with long rows (the walk along a sorted row, taken from 8
+  !> entries of g's row on): A + 0.5 A^2 - 0.25 A^2 (A^2's rows: up to 25
+  !> entries, 7 in A's pattern, the rest appended by the first term and met
+  !> again by the second) gives hypre the entries of the assembled
+  !> A + 0.25 A^2, each once, and its product. rebuild_rows with new values
+  !> of the same pattern writes them in place (hypre_ij's overwrite), to the
+  !> bit as a new IJ matrix holds them; with another pattern it builds anew.
+  subroutine test_long_rows(suite, comm)
+    type(test_suite_t), intent(inout) :: suite
+    type(parallel_comm_t), intent(in) :: comm
+    type(index_map_t), target :: row_map, col_map
+    type(csr_matrix_t), target :: a, s
+    type(global_csr_t), target :: ga, a2
+    type(sum_rows_t) :: src
+    type(hypre_ij_t) :: ij, fresh
+    type(error_status_t) :: st
+    real(rp), allocatable :: x(:), y(:), yh(:)
+    logical :: fits
+
+    call build_laplacian(comm, 12, 1, [1.0_rp], row_map, col_map, a)
+    call from_csr(a, ga)
+    call gcsr_multiply(ga, ga, a2)
+    call suite%assert_true(comm%max(maxval(a2%row_ptr(2:) - a2%row_ptr(:a2%n_rows))) >= 20, &
+                           'long rows: A^2 has rows of 20 entries and more')
+    call union_to_csr(a, a2, row_map, s)
+    call add_to_csr(0.25_rp, a2, s, fits)
+    call suite%assert_true(fits, 'long rows: the assembled sum A + 0.25 A^2')
+    call src%init(a, a2, 0.5_rp, a2, -0.25_rp)
+    call ij%init_rows(src, st)
+    call suite%assert_true(st%ok() .and. comm%sum(int(ij%nnz, gp)) == s%global_nnz(), &
+                           'long rows: A + 0.5 A^2 - 0.25 A^2 has the entries of A + 0.25 A^2, each once')
+    allocate(x(s%n_rows), y(s%n_rows), yh(s%n_rows))
+    call fill_test_vector(s, x)
+    call s%apply(x, y)
+    call ij%matvec(x, yh)
+    call suite%assert_close_array(yh, y, 1.0e-12_rp, 'long rows: the product by rows is A + 0.25 A^2''s')
+    ! new values of the same pattern go into hypre's arrays in place, where
+    ! a new IJ matrix puts them: the products agree to the last bit
+    src%alpha_g = 0.7_rp
+    src%alpha_h = -0.2_rp
+    call ij%rebuild_rows(src, st)
+    call suite%assert_true(st%ok() .and. ij%overwrites == 1, 'long rows: rebuild_rows with the same pattern '// &
+                           'writes in place')
+    call fresh%init_rows(src, st)
+    call ij%matvec(x, yh)
+    call fresh%matvec(x, y)
+    call suite%assert_close_array(yh, y, 0.0_rp, 'long rows: ... the product of a new IJ matrix, bit for bit')
+    ! another pattern (A alone): built anew, not written in place
+    call src%init(a)
+    call ij%rebuild_rows(src, st)
+    call a%apply(x, y)
+    call ij%matvec(x, yh)
+    call suite%assert_true(st%ok() .and. ij%overwrites == 1 .and. comm%sum(int(ij%nnz, gp)) == a%global_nnz(), &
+                           'long rows: rebuild_rows with another pattern builds anew')
+    call suite%assert_close_array(yh, y, 1.0e-12_rp, 'long rows: ... with A''s product')
+    call fresh%free()
+    call ij%free()
+    call a%free()
+    call s%free()
+    call ga%free()
+    call a2%free()
+  end subroutine test_long_rows
 
   !> G: for global row i of n, the graph Laplacian of the edge (i, i + n/2)
   !> (rows i <= n/2) or (i, i - n/2): 1 on the diagonal, -1 at the partner.
@@ -597,6 +664,70 @@ contains
     call s%free()
     call g%free()
   end subroutine test_lagged
+
+  !> A refresh with the coarse levels made anew (refresh_rows with galerkin:
+  !> P^T A P with the interpolation of the build), on the 3 interleaved
+  !> Laplacians (scaled 1, 100, 0.01, 16^3 nodes) given by rows as
+  !> A + alpha A. A scaled matrix has the same strength graphs, coarsening
+  !> and interpolation, so the hierarchy of 1.25 A by refresh is the one a
+  !> build on 1.25 A makes, each level 1.25 times A's: its cycle is A's
+  !> divided by 1.25 (to round-off in double, to the floats' 1e-6 in single
+  !> precision), where the finest-level refresh's is not (by more than 1 %);
+  !> a second refresh back to A gives A's cycle again.
+  subroutine test_galerkin(suite, comm, precision)
+    type(test_suite_t), intent(inout) :: suite
+    type(parallel_comm_t), intent(in) :: comm
+    character(len=*), intent(in) :: precision
+    type(index_map_t), target :: row_map, col_map
+    type(csr_matrix_t), target :: a, s
+    type(global_csr_t), target :: g
+    type(sum_rows_t) :: src
+    type(boomeramg_precon_t) :: amg, fine
+    type(amg_params_t) :: p
+    type(error_status_t) :: st
+    real(rp), allocatable :: x(:), y(:), yh(:), z0(:), z1(:), z2(:)
+    real(rp) :: tol, scale
+    character(len=:), allocatable :: tag
+
+    tag = 'galerkin ('//precision//'): '
+    tol = merge(1.0e-12_rp, 1.0e-6_rp, precision == 'double')
+    call build_laplacian(comm, 16, 3, [1.0_rp, 100.0_rp, 0.01_rp], row_map, col_map, a)
+    call from_csr(a, g)
+    p%precision = precision
+    call src%init(a, g, 0.0_rp)
+    call amg%setup_rows(src, p, st)
+    call fine%setup_rows(src, p, st)
+    call suite%assert_true(st%ok() .and. amg%own_cycle, tag//"setup_rows takes geoblock's cycle: "//trim(st%msg))
+    if (.not. (st%ok() .and. amg%own_cycle)) return
+    allocate(x(a%n_rows), y(a%n_rows), yh(a%n_rows), z0(a%n_rows), z1(a%n_rows), z2(a%n_rows))
+    call fill_test_vector(a, x)
+    call amg%apply(x, z0)
+    scale = comm%max(maxval(abs(z0)))
+    src%alpha_g = 0.25_rp
+    call amg%refresh_rows(src, st, galerkin=.true.)
+    call suite%assert_true(st%ok() .and. amg%own_cycle, tag//'refresh_rows succeeds: '//trim(st%msg))
+    call fine%refresh_rows(src, st)
+    call amg%apply(x, z1)
+    call fine%apply(x, z2)
+    s = a
+    s%val = 1.25_rp * a%val
+    call s%apply(x, y)
+    call amg%matrix_product(x, yh)
+    call suite%assert_close_array(yh, y, 1.0e-10_rp * comm%max(maxval(abs(y))), &
+                                  tag//'matrix_product is 1.25 A after the refresh')
+    call suite%assert_close_array(z1, z0 / 1.25_rp, tol * scale, tag//'the cycle is A''s / 1.25')
+    call suite%assert_true(comm%max(maxval(abs(z2 - z0 / 1.25_rp))) > 1.0e-2_rp * scale, &
+                           tag//'the finest-level refresh''s is not')
+    src%alpha_g = 0.0_rp
+    call amg%refresh_rows(src, st, galerkin=.true.)
+    call amg%apply(x, z1)
+    call suite%assert_close_array(z1, z0, tol * scale, tag//'a second refresh, back to A, gives A''s cycle')
+    call amg%free()
+    call fine%free()
+    call a%free()
+    call s%free()
+    call g%free()
+  end subroutine test_galerkin
 
   !> precision = 'single': geoblock's cycle on float copies of the level
   !> values. On the 3 interleaved Laplacians (scaled 1, 100, 0.01, 16^3
