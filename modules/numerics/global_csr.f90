@@ -686,7 +686,7 @@ contains
     type(global_csr_t), intent(out) :: c
     type(row_store_t) :: store
     integer(gp), allocatable :: cols(:)
-    integer(ip), allocatable :: pos(:), marker(:), loc(:), bcid(:), scid(:)
+    integer(ip), allocatable :: pos(:), marker(:), bcid(:), scid(:)
     real(rp), allocatable :: acc(:)
     integer(ip), allocatable :: list(:)
     integer(ip) :: i, k, q, r, nc, nl, cap, m, kk
@@ -742,16 +742,18 @@ contains
           end do
         end if
       end do
-      ! this row's entries in ascending column order
-      loc = list(1:nl)
-      call sort_ints(loc)
-      if (m + nl > cap) call grow(m + nl)
-      do kk = 1, nl
-        m = m + 1
-        c%gcol(m) = cols(loc(kk))
-        c%val(m) = acc(loc(kk))
-        marker(loc(kk)) = 0
-      end do
+      ! this row's entries in ascending column order (most rows, away from
+      ! the faults, have none)
+      if (nl > 0) then
+        call sort_ints(list(1:nl))
+        if (m + nl > cap) call grow(m + nl)
+        do kk = 1, nl
+          m = m + 1
+          c%gcol(m) = cols(list(kk))
+          c%val(m) = acc(list(kk))
+          marker(list(kk)) = 0
+        end do
+      end if
       c%row_ptr(i+1) = m + 1
     end do
     c%gcol = c%gcol(1:m)
@@ -788,10 +790,26 @@ contains
     owned = g >= a%row_offsets(a%comm%rank) .and. g < a%row_offsets(a%comm%rank + 1)
   end function owned
 
+  !> Sort distinct x ascending: by insertion up to 32 entries (a row of a
+  !> product; no work arrays), else by sort_gids.
   subroutine sort_ints(x)
     integer(ip), intent(inout) :: x(:)
     integer(gp), allocatable :: g(:)
     integer(ip), allocatable :: pos(:)
+    integer(ip) :: k, m, t
+    if (size(x) <= 32) then
+      do k = 2, size(x, kind=ip)
+        t = x(k)
+        m = k - 1
+        do while (m >= 1)
+          if (x(m) <= t) exit
+          x(m + 1) = x(m)
+          m = m - 1
+        end do
+        x(m + 1) = t
+      end do
+      return
+    end if
     allocate(pos(size(x)), g(size(x)))
     g = int(x, gp)
     call sort_gids(g, pos)
