@@ -13,7 +13,7 @@ module index_map
   implicit none
   private
 
-  public :: index_map_t, sort_gids, rank_of
+  public :: insertion_sort, index_map_t, sort_gids, rank_of
 
   type :: index_map_t
     type(parallel_comm_t) :: comm
@@ -272,6 +272,23 @@ contains
     self%n_owned = 0
     self%n_ghost = 0
   end subroutine free
+
+  !> Sort a short integer array ascending in place, by insertion (no work
+  !> arrays; for rows of tens of entries).
+  pure subroutine insertion_sort(a)
+    integer(ip), intent(inout) :: a(:)
+    integer(ip) :: i, j, t
+    do i = 2, size(a, kind=ip)
+      t = a(i)
+      j = i - 1
+      do while (j >= 1)
+        if (a(j) <= t) exit
+        a(j + 1) = a(j)
+        j = j - 1
+      end do
+      a(j + 1) = t
+    end do
+  end subroutine insertion_sort
 
   !> Sort global ids ascending (heap sort); pos returns the original positions.
   subroutine sort_gids(a, pos)

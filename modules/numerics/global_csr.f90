@@ -21,7 +21,7 @@
 module global_csr
   use kinds, only: rp, ip, gp
   use parallel_comm, only: parallel_comm_t
-  use index_map, only: index_map_t, sort_gids, rank_of
+  use index_map, only: index_map_t, sort_gids, rank_of, insertion_sort
   use csr_matrix, only: csr_matrix_t
   implicit none
   private
@@ -796,18 +796,8 @@ contains
     integer(ip), intent(inout) :: x(:)
     integer(gp), allocatable :: g(:)
     integer(ip), allocatable :: pos(:)
-    integer(ip) :: k, m, t
     if (size(x) <= 32) then
-      do k = 2, size(x, kind=ip)
-        t = x(k)
-        m = k - 1
-        do while (m >= 1)
-          if (x(m) <= t) exit
-          x(m + 1) = x(m)
-          m = m - 1
-        end do
-        x(m + 1) = t
-      end do
+      call insertion_sort(x)
       return
     end if
     allocate(pos(size(x)), g(size(x)))

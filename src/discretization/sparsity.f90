@@ -9,6 +9,7 @@
 !> dof_map), which keeps each row's columns ascending.
 module sparsity
   use kinds, only: ip
+  use index_map, only: insertion_sort
   implicit none
   private
 
@@ -88,19 +89,4 @@ contains
       end do
     end do
   end subroutine element_pattern
-
-  pure subroutine insertion_sort(a)
-    integer(ip), intent(inout) :: a(:)
-    integer(ip) :: i, j, t
-    do i = 2, size(a, kind=ip)
-      t = a(i)
-      j = i - 1
-      do while (j >= 1)
-        if (a(j) <= t) exit
-        a(j + 1) = a(j)
-        j = j - 1
-      end do
-      a(j + 1) = t
-    end do
-  end subroutine insertion_sort
 end module sparsity
