@@ -46,31 +46,41 @@
  *                                    single-precision copies are then to
  *                                    be made anew)
  * gb_amg_compact_create(solver, old) the values of every level's matrix but
- *                                    the coarsest in single precision
- *                                    (NULL: none): the finest level's in
- *                                    buffers of their own, taken over from
- *                                    old (the last set-up's, or NULL), the
- *                                    coarse levels' in place, in hypre's
- *                                    arrays: afterwards only this cycle,
- *                                    with compact, may run the hierarchy
+ *                                    the coarsest in single precision, in
+ *                                    place in hypre's arrays (NULL: none;
+ *                                    old, the last set-up's or NULL, is
+ *                                    reused): afterwards only this cycle,
+ *                                    with compact, may run the hierarchy,
+ *                                    and the finest level's matrix (the
+ *                                    caller's IJ matrix) holds floats
+ * gb_amg_fine_narrowed(compact)      1 when the finest level's values are
+ *                                    floats in place, else 0
+ * gb_amg_fine_product(compact, par_a, par_x, par_y)
+ *                                    y <- A x for the hierarchy's finest
+ *                                    level A, with the values compact
+ *                                    holds (floats, or on a rank that
+ *                                    kept them, doubles); 1 without one
  * gb_amg_compact_free(compact)       frees compact's buffers
  *
  * Single precision (&amg precision = 'single'): the sweeps and the
  * residual of a level read its matrix's values as floats (4 bytes an entry
  * instead of 8; with the 4-byte column index, 8 bytes instead of 12), and
- * sum them in double precision against double vectors. The coarse levels
- * are converted in place, in hypre's arrays (no new memory, no fresh
- * pages: a first version's copies cost 0.8 s of page faults and copying
- * per set-up of the seed's nine fractures' S**); the finest level, whose
- * doubles are the IJ matrix the rest of geoblock uses, is copied into
- * buffers that the next set-up takes over. The
- * cycle is then the same V-cycle for the matrices rounded to single
- * precision (relative change 6e-8 an entry): still a fixed, symmetric
- * preconditioner, whose quality the rounding does not touch. The
- * transfers (P, P^T) and the coarse solve stay hypre's, in double. A level
- * with an entry that single precision cannot hold as a normal number
- * (beyond 3.4e38 or, nonzero, below 1.2e-38) keeps its double values, on
- * its rank (the halo exchange is the same either way).
+ * sum them in double precision against double vectors. Every level is
+ * converted in place, in the first half of hypre's value arrays: no new
+ * memory and no fresh pages (a first version's copies cost 0.8 s of page
+ * faults and copying per set-up of the seed's nine fractures' S**, and a
+ * copy of the finest level kept from one set-up to the next was 390 MB a
+ * rank on HI24L at the seed's size, on top of the set-up's peak). The
+ * finest level is the caller's IJ matrix (hypre_ij): its doubles are gone
+ * until new values are written into it (hypre_ij's rebuild_rows), and its
+ * products are gb_amg_fine_product's. The cycle is then the same V-cycle
+ * for the matrices rounded to single precision (relative change 6e-8 an
+ * entry): still a fixed, symmetric preconditioner, whose quality the
+ * rounding does not touch. The transfers (P, P^T) and the coarse solve
+ * stay hypre's, in double. A level with an entry that single precision
+ * cannot hold as a normal number (beyond 3.4e38 or, nonzero, below
+ * 1.2e-38) keeps its double values, on its rank (the halo exchange is the
+ * same either way).
  */
 #include <float.h>
 #include <math.h>
@@ -202,10 +212,6 @@ typedef struct
   float **diag, **offd;
   HYPRE_Real *buf, *ext;
   HYPRE_Int n_buf, n_ext;
-  /* the finest level's copies (owned, kept from one set-up to the next,
-     so that a new hierarchy does not touch fresh pages) and their room */
-  float *fine_diag, *fine_offd;
-  size_t n_fine_diag, n_fine_offd;
 } gb_compact;
 
 /* One l1 hybrid Gauss-Seidel sweep on the rank's rows, forward (dir > 0)
@@ -366,35 +372,10 @@ static int single_fits(const HYPRE_Real *a, HYPRE_Int n)
   return !bad;
 }
 
-/* The n values a as floats into *s (room *room, grown as needed), in the
-   pass that checks them; 0 when one is not a normal single-precision
-   number (nor zero) or there is no memory. */
-static int copy_into(const HYPRE_Real *a, HYPRE_Int n, float **s, size_t *room)
-{
-  HYPRE_Int k;
-  int bad = 0;
-  const size_t need = (size_t) (n > 0 ? n : 1);
-  if (n > 0 && a == NULL) return 0;
-  if (*room < need)
-  {
-    float *t = (float *) realloc(*s, sizeof(float) * need);
-    if (t == NULL) return 0;
-    *s = t;
-    *room = need;
-  }
-  for (k = 0; k < n; k++)
-  {
-    const HYPRE_Real m = fabs(a[k]);
-    bad |= (m != 0.0) & !((m >= FLT_MIN) & (m <= FLT_MAX));
-    (*s)[k] = (float) a[k];
-  }
-  return !bad;
-}
-
-/* The values of a coarse level's part as floats in place, in the first half
-   of hypre's own array (going up, each float lands on bytes already read);
+/* The values of a level's part as floats in place, in the first half of
+   hypre's own array (going up, each float lands on bytes already read);
    hypre frees the array as before. The doubles are gone: only this cycle
-   reads the level afterwards. */
+   (and gb_amg_fine_product on the finest level) reads them afterwards. */
 static float *convert_in_place(hypre_CSRMatrix *part)
 {
   enum { CHUNK = 1024 };
@@ -414,24 +395,13 @@ static float *convert_in_place(hypre_CSRMatrix *part)
   return (float *) a;
 }
 
-/* Level l's values in single precision: the finest level into c's own
-   buffers (hypre's doubles stay: they are the IJ matrix), a coarse level
-   in place; a level with a value out of range (or, for the finest, no
-   memory) keeps its doubles (NULL). */
+/* Level l's values in single precision, in place in hypre's arrays; a
+   level with a value out of range keeps its doubles (NULL). */
 static void compact_level(gb_compact *c, hypre_ParCSRMatrix *A, HYPRE_Int l)
 {
   hypre_CSRMatrix *diag = hypre_ParCSRMatrixDiag(A), *offd = hypre_ParCSRMatrixOffd(A);
   c->diag[l] = NULL;
   c->offd[l] = NULL;
-  if (l == 0)
-  {
-    if (!copy_into(hypre_CSRMatrixData(diag), hypre_CSRMatrixNumNonzeros(diag), &c->fine_diag, &c->n_fine_diag) ||
-        !copy_into(hypre_CSRMatrixData(offd), hypre_CSRMatrixNumNonzeros(offd), &c->fine_offd, &c->n_fine_offd))
-      return;
-    c->diag[0] = c->fine_diag;
-    c->offd[0] = c->fine_offd;
-    return;
-  }
   /* in place the doubles are lost: every value is checked first */
   if (!single_fits(hypre_CSRMatrixData(diag), hypre_CSRMatrixNumNonzeros(diag)) ||
       !single_fits(hypre_CSRMatrixData(offd), hypre_CSRMatrixNumNonzeros(offd)))
@@ -478,8 +448,6 @@ void gb_amg_compact_free(void *compact)
   free(c->offd);
   free(c->buf);
   free(c->ext);
-  free(c->fine_diag);
-  free(c->fine_offd);
   free(c);
 }
 
@@ -509,6 +477,52 @@ void *gb_amg_compact_create(void *solver, void *old)
   }
   for (l = 0; l < levels; l++) compact_level(c, A[l], l);
   return c;
+}
+
+int gb_amg_fine_narrowed(void *compact)
+{
+  const gb_compact *c = (const gb_compact *) compact;
+  return (c != NULL && c->levels > 0 && c->diag[0] != NULL) ? 1 : 0;
+}
+
+int gb_amg_fine_product(void *compact, void *par_a, void *par_x, void *par_y)
+{
+  gb_compact *c = (gb_compact *) compact;
+  hypre_ParCSRMatrix *A = (hypre_ParCSRMatrix *) par_a;
+  const hypre_CSRMatrix *diag = hypre_ParCSRMatrixDiag(A), *offd = hypre_ParCSRMatrixOffd(A);
+  const HYPRE_Int n = hypre_CSRMatrixNumRows(diag);
+  const HYPRE_Int *di = hypre_CSRMatrixI(diag), *dj = hypre_CSRMatrixJ(diag);
+  const HYPRE_Int *oi = hypre_CSRMatrixI(offd), *oj = hypre_CSRMatrixJ(offd);
+  const HYPRE_Real *da = hypre_CSRMatrixData(diag), *oa = hypre_CSRMatrixData(offd);
+  const int has_offd = hypre_CSRMatrixNumCols(offd) > 0 && oi != NULL;
+  const float *da_s, *oa_s;
+  const HYPRE_Real *xx = hypre_VectorData(hypre_ParVectorLocalVector((hypre_ParVector *) par_x));
+  HYPRE_Real *yy = hypre_VectorData(hypre_ParVectorLocalVector((hypre_ParVector *) par_y));
+  HYPRE_Real *b1, *b2, *v_ext;
+  HYPRE_Int i;
+  if (c == NULL || c->levels < 1) return 1;
+  da_s = c->diag[0];
+  oa_s = c->offd[0];
+  if (hypre_ParCSRMatrixCommPkg(A) == NULL) hypre_MatvecCommPkgCreate(A);
+  v_ext = level_halo(A, xx, c, &b1, &b2);
+  /* -(0 - sum_j a_ij x_j), the off-rank part first as in the residual */
+  for (i = 0; i < n; i++)
+  {
+    HYPRE_Real r = 0.0;
+    if (da_s != NULL)
+    {
+      if (has_offd) r = row_rest_up_s(oi, oj, oa_s, v_ext, i, 0.0);
+      yy[i] = -row_rest_up_s(di, dj, da_s, xx, i, r);
+    }
+    else
+    {
+      if (has_offd) r = row_rest_up(oi, oj, oa, v_ext, i, 0.0);
+      yy[i] = -row_rest_up(di, dj, da, xx, i, r);
+    }
+  }
+  free(b1);
+  free(b2);
+  return 0;
 }
 
 int gb_amg_refresh_fine(void *solver, void *compact, void *par_a)

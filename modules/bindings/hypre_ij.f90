@@ -105,6 +105,9 @@ module hypre_ij
     integer(hypre_int), allocatable :: ncols(:)     !< (n_rows) entries per row
     integer(gp) :: pattern_key = 0              !< fingerprint of the global column ids (pattern_of)
     integer :: overwrites = 0                   !< rebuild_rows that wrote into the matrix in place
+    !> its values are floats in place (boomeramg_precon's single-precision
+    !> cycle owns them): no product with hypre's, until rebuild_rows
+    logical :: narrowed = .false.
     !> entries given to hypre at a time, at least (whole rows); kept by free()
     integer(ip) :: block_entries = 2**18
   contains
@@ -306,7 +309,10 @@ contains
     end if
     ierr = HYPRE_ClearAllErrors()
     ! the same pattern (the rows given in the same order): the new values
-    ! straight into hypre's arrays (ij_overwrite.c)
+    ! straight into hypre's arrays (ij_overwrite.c). Doubles again where
+    ! they held floats: every value is written, or on a failure the matrix
+    ! is built anew
+    self%narrowed = .false.
     if (overwrite(self, src)) then
       self%overwrites = self%overwrites + 1
       return
@@ -494,6 +500,7 @@ contains
     real(rp), intent(out) :: y(:)
     integer(hypre_int), intent(out), optional :: ierr
     integer(hypre_int) :: e
+    if (self%narrowed) error stop 'hypre_ij%matvec: the values are floats in place (boomeramg_precon)'
     call self%set_rhs(x)
     e = HYPRE_ParCSRMatrixMatvec(1.0_hypre_real, self%par_a, self%par_b, 0.0_hypre_real, self%par_x)
     call self%get_x(y, ierr)
@@ -516,6 +523,7 @@ contains
     if (allocated(self%rows)) deallocate(self%rows)
     if (allocated(self%ncols)) deallocate(self%ncols)
     self%pattern_key = 0
+    self%narrowed = .false.
     self%n_rows = 0
     self%nnz = 0
     self%ilower = 0

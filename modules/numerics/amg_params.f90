@@ -69,11 +69,11 @@
 !>                               in single precision (amg_cycle.c; 8 bytes
 !>                               an entry with its column index instead of
 !>                               12, summed in double against double
-!>                               vectors): the coarse levels converted in
-!>                               place in hypre's arrays, the finest copied
-!>                               into buffers kept from one set-up to the
-!>                               next (hypre's doubles of it are the IJ
-!>                               matrix). The same counts on every case
+!>                               vectors), every level converted in place
+!>                               in hypre's arrays (the finest level's
+!>                               doubles, the IJ matrix, come back with
+!>                               the next values written into it). The
+!>                               same counts on every case
 !>                               measured (the rounding moves M^-1 x by
 !>                               3e-8 of its largest entry), less solve
 !>                               time (2 ranks, 2026-12-04, a busy machine,
@@ -89,9 +89,11 @@
 !>                               and 107 s; at the seed's size 229 s
 !>                               against 279 s (the run 492 s against
 !>                               535 s). Costs: a pass over the
-!>                               hierarchy per set-up and the finest
-!>                               level's copy (+13 % peak on the cube, +8 %
-!>                               on the seed's nine fractures). A first version
+!>                               hierarchy per set-up. A copy of the
+!>                               finest level kept between set-ups (until
+!>                               2026-12-05) cost +13 % peak on the cube,
+!>                               +8 % on the seed's nine fractures and
+!>                               390 MB a rank on HI24L. A first version
 !>                               that copied every level into fresh memory
 !>                               cost 0.8 s of page faults and copying per
 !>                               set-up of S** at the seed's size (55 of

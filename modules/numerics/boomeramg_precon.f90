@@ -22,7 +22,8 @@ module boomeramg_precon
   use amg_params, only: amg_params_t, amg_line_len
   use hypre_ij, only: hypre_ij_t, ij_rows_t, hypre_check
   use amg_cycle_c, only: gb_amg_cycle_fits, gb_amg_cycle, gb_amg_refresh_fine, gb_amg_regalerkin, &
-                         gb_amg_compact_create, gb_amg_compact_free
+                         gb_amg_compact_create, gb_amg_compact_free, gb_amg_fine_narrowed, &
+                         gb_amg_fine_product
   use index_map, only: index_map_t
   use strings, only: lower
   use hypre_c, only: HYPRE_MEMORY_HOST, HYPRE_BoomerAMGSetRelaxOrder, HYPRE_ClearAllErrors, HYPRE_GetError, hypre_CAlloc, &
@@ -60,8 +61,9 @@ module boomeramg_precon
     integer(gp), allocatable :: level_rows(:)      !< (num_levels) global rows per level, finest first
     real(rp) :: grid_complexity = 0.0_rp           !< sum of level rows / fine rows
     logical :: own_cycle = .false.                 !< apply runs amg_cycle.c's V-cycle (set per set-up)
-    !> its single-precision level values (&amg precision); the finest
-    !> level's buffers outlive a set-up (the next one takes them over)
+    !> its level values in single precision, in place (&amg precision),
+    !> the finest level's in ij's matrix (ij%narrowed); the buffers
+    !> outlive a set-up (the next one takes them over)
     type(c_ptr) :: compact = c_null_ptr
   contains
     procedure :: setup
@@ -199,6 +201,7 @@ contains
       call hypre_check(self%comm, int(gb_amg_refresh_fine(self%solver, self%compact, self%ij%par_a), hypre_int), &
                        'boomeramg_precon: the finest level of a lagged hierarchy', status)
     end if
+    self%ij%narrowed = gb_amg_fine_narrowed(self%compact) == 1_c_int
     self%setup_time = wall_time() - t0
   end subroutine refresh_rows
 
@@ -237,13 +240,23 @@ contains
     self%setup_time = wall_time() - t0
   end subroutine renew
 
-  !> y = A x with hypre's copy of A (owned entries). Collective.
+  !> y = A x with hypre's copy of A (owned entries), rounded to single
+  !> precision as the cycle holds it (&amg precision = 'single'). Collective.
   subroutine matrix_product(self, x, y)
     class(boomeramg_precon_t), intent(inout) :: self
     real(rp), intent(in) :: x(:)
     real(rp), intent(out) :: y(:)
+    integer(hypre_int) :: ierr
     if (.not. self%ij%is_ready()) error stop 'boomeramg_precon%matrix_product: setup() was not called'
-    call self%ij%matvec(x, y)
+    if (.not. c_associated(self%compact)) then
+      call self%ij%matvec(x, y)
+      return
+    end if
+    ! the values the cycle holds, alike on every rank (a rank may have
+    ! kept its doubles)
+    call self%ij%set_rhs(x)
+    ierr = int(gb_amg_fine_product(self%compact, self%ij%par_a, self%ij%par_b, self%ij%par_x), hypre_int)
+    call self%ij%get_x(y)
   end subroutine matrix_product
 
   !> Function id of every owned row (num_functions > 1), checked.
@@ -347,6 +360,7 @@ contains
       call status%set('boomeramg_precon: no memory for the dof_func array of hypre')
       return
     end if
+    if (self%ij%narrowed) error stop 'boomeramg_precon: a set-up on values held as floats'
     ierr = HYPRE_BoomerAMGSetup(self%solver, self%ij%par_a, self%ij%par_b, self%ij%par_x)
     call hypre_check(self%comm, HYPRE_GetError(), 'boomeramg_precon: BoomerAMG set-up', status)
     ! geoblock's cycle where it reproduces hypre's (amg_cycle.c), decided
@@ -361,6 +375,7 @@ contains
     else
       call free_compact(self)
     end if
+    self%ij%narrowed = gb_amg_fine_narrowed(self%compact) == 1_c_int
     ! the sizes of the previous hierarchy no longer hold
     self%num_levels = 0
     if (allocated(self%level_rows)) deallocate(self%level_rows)

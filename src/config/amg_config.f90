@@ -126,8 +126,9 @@ contains
                "downwards: half the solve time of hypre's on elasticity), hypre's own for other settings", &
                "'geoblock' or 'hypre'")
     call g%add('precision', params%precision, '-', "the level matrices' values in geoblock's cycle: double, "// &
-               "or single (floats: 8 bytes an entry with its column index instead of 12, summed in double; the coarse "// &
-               "levels converted in place; a level beyond single precision's range stays double)", "'double' or 'single'")
+               "or single (floats: 8 bytes an entry with its column index instead of 12, summed in double; every "// &
+               "level converted in place, no new memory; a level beyond single precision's range stays double)", &
+               "'double' or 'single'")
     call g%add('slab_threshold', params%slab_threshold, '-', 'strength threshold, at least, of the displacement '// &
                'block (K, S*) on a slab with flat cells (found from the mesh; 0: as strong_threshold)', '[0, 1)')
   end subroutine describe_amg_config

@@ -174,6 +174,9 @@ contains
 
     call build_laplacian(comm, 30, 1, [1.0_rp], row_map, col_map, a)
     p%num_functions = 1
+    ! hypre's copy is compared to the last bit: its values stay double
+    ! (test_single for the floats in place)
+    p%precision = 'double'
     call amg%setup(a, p, st)
     call suite%assert_true(st%ok(), 'scalar: setup succeeds: '//trim(st%msg))
     if (.not. st%ok()) return
@@ -263,6 +266,7 @@ contains
     call suite%assert_true(fits, 'rows: the assembled sum A + 2 G')
     call src%init(a, g, 2.0_rp)
     p%num_functions = 1
+    p%precision = 'double'   ! products compared to the last bit
     amg%ij%block_entries = 997
     call amg%setup_rows(src, p, st)
     call suite%assert_true(st%ok(), 'rows: setup_rows succeeds: '//trim(st%msg))
@@ -782,6 +786,7 @@ contains
                            'cycles as in double')
     call md%free()
     call ms%free()
+    call single_in_place(suite, comm, a1)
 
     ! a lagged refresh
     call from_csr(a, g)
@@ -814,6 +819,60 @@ contains
     call tiny_a%free()
 
   end subroutine test_single
+
+  !> The finest level's floats in place, in hypre's copy of a (no copy of
+  !> their own): matrix_product is A x with A's values rounded to single
+  !> precision, within the rounding's bound 2^-24 (|A| |x|) of ours and
+  !> not equal to it; update(2 A) writes doubles into the same matrix
+  !> again (in place), and its cycle is that of a new set-up on 2 A to the
+  !> last bit (so no float is left), with the values floats again.
+  subroutine single_in_place(suite, comm, a)
+    type(test_suite_t), intent(inout) :: suite
+    type(parallel_comm_t), intent(in) :: comm
+    type(csr_matrix_t), intent(inout) :: a
+    type(csr_matrix_t) :: a_abs, a2
+    type(boomeramg_precon_t) :: ms, fresh
+    type(amg_params_t) :: ps
+    type(error_status_t) :: st, st2
+    real(rp), allocatable :: x(:), y(:), ys(:), w(:), z1(:), z2(:)
+    real(rp) :: bound, diff
+
+    ps = amg_params_t()
+    ps%num_functions = 1
+    ps%precision = 'single'
+    call ms%setup(a, ps, st)
+    call suite%assert_true(st%ok() .and. .not. comm%any_true(.not. ms%ij%narrowed), &
+                           "single in place: the finest level's values are floats in hypre's copy")
+    allocate(x(a%n_rows), y(a%n_rows), ys(a%n_rows), w(a%n_rows), z1(a%n_rows), z2(a%n_rows))
+    call fill_test_vector(a, x)
+    call a%apply(x, y)
+    call ms%matrix_product(x, ys)
+    a_abs = a
+    a_abs%val = abs(a%val)
+    call a_abs%apply(abs(x), w)
+    bound = 1.01_rp * 2.0_rp**(-24) * comm%max(maxval(w))
+    diff = comm%max(maxval(abs(ys - y)))
+    if (comm%rank == 0) write(*, '(a,es10.3,a,es10.3)') '  single in place: max |A_s x - A x| ', diff, &
+      ', bound ', bound
+    call suite%assert_true(diff <= bound .and. diff > 0.0_rp, &
+                           'single in place: matrix_product is the product with the rounded values')
+    a2 = a
+    a2%val = 2.0_rp * a%val
+    call ms%update(a2, st)
+    call fresh%setup(a2, ps, st2)
+    call suite%assert_true(st%ok() .and. st2%ok() .and. ms%ij%overwrites == 1, &
+                           'single in place: update(2 A) writes into the same matrix')
+    call ms%apply(x, z1)
+    call fresh%apply(x, z2)
+    call suite%assert_close_array(z1, z2, 0.0_rp, 'single in place: after update(2 A) the cycle is a new '// &
+                                  'set-up''s on 2 A, bit for bit')
+    call suite%assert_true(.not. comm%any_true(.not. ms%ij%narrowed), &
+                           'single in place: ... with the values floats again')
+    call ms%free()
+    call fresh%free()
+    call a_abs%free()
+    call a2%free()
+  end subroutine single_in_place
 
   !> true on every rank when m holds single-precision values
   logical function c_single(comm, m)
