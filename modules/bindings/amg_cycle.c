@@ -35,15 +35,16 @@
  * gb_amg_refresh_fine(solver, compact, par_a)
  *                                    the finest level becomes par_a (a
  *                                    matrix of the same rows) with its l1
- *                                    norms (and its single-precision copy
- *                                    where compact holds one); the coarse
- *                                    levels stay (a lagged hierarchy)
+ *                                    norms (and its values in single
+ *                                    precision in place where compact is
+ *                                    given); the coarse levels stay (a
+ *                                    lagged hierarchy)
  * gb_amg_regalerkin(solver, par_a)   the finest level becomes par_a and
  *                                    every coarse level P^T A P anew with
  *                                    the interpolation of the set-up,
  *                                    with the l1 norms and the coarsest
  *                                    level's Gaussian elimination (its
- *                                    single-precision copies are then to
+ *                                    single-precision values are then to
  *                                    be made anew)
  * gb_amg_compact_create(solver, old) the values of every level's matrix but
  *                                    the coarsest in single precision, in
@@ -203,9 +204,9 @@ GB_ROW_REST(row_rest_up_s, row_rest_down_s, float)
     }                                                                                               \
   }
 
-/* The single-precision copies of a hierarchy's level values (all levels
-   but the coarsest), NULL for a level that keeps its double values, and
-   the halo buffers, sized for the largest level. */
+/* Where a hierarchy's level values are floats (all levels but the
+   coarsest, in place in hypre's arrays), NULL for a level that keeps its
+   double values, and the halo buffers, sized for the largest level. */
 typedef struct
 {
   HYPRE_Int levels;
@@ -329,8 +330,8 @@ int gb_amg_cycle(void *solver, void *compact, void *par_b, void *par_x)
   const HYPRE_Int coarsest = num_levels - 1;
   HYPRE_Int l, s;
 
-  /* the copies belong to this hierarchy (its coarse levels hold floats:
-     no double cycle can run them any more) */
+  /* the floats belong to this hierarchy (its levels hold them: no double
+     cycle can run them any more) */
   if (c != NULL && c->levels != coarsest) return 1;
   F[0] = (hypre_ParVector *) par_b;
   U[0] = (hypre_ParVector *) par_x;

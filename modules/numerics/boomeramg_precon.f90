@@ -62,7 +62,7 @@ module boomeramg_precon
     real(rp) :: grid_complexity = 0.0_rp           !< sum of level rows / fine rows
     logical :: own_cycle = .false.                 !< apply runs amg_cycle.c's V-cycle (set per set-up)
     !> its level values in single precision, in place (&amg precision),
-    !> the finest level's in ij's matrix (ij%narrowed); the buffers
+    !> the finest level's in ij's matrix (ij%narrowed); its halo buffers
     !> outlive a set-up (the next one takes them over)
     type(c_ptr) :: compact = c_null_ptr
   contains
@@ -368,8 +368,8 @@ contains
     self%own_cycle = .false.
     if (status%ok() .and. lower(p%cycle_code) == 'geoblock') &
       self%own_cycle = .not. self%comm%any_true(gb_amg_cycle_fits(self%solver) /= 1_c_int)
-    ! its level values in single precision where asked (amg_cycle.c; the
-    ! finest level's buffers of the last set-up are taken over)
+    ! its level values in single precision where asked, in place
+    ! (amg_cycle.c; the last set-up's halo buffers are taken over)
     if (self%own_cycle .and. lower(p%precision) == 'single') then
       self%compact = gb_amg_compact_create(self%solver, self%compact)
     else
