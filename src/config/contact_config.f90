@@ -245,7 +245,8 @@ contains
                "H_t; 'bubble': Q1 enriched with face bubbles, inf-sup stable (contact only)", &
                "'stabilized' or 'bubble'")
     call g%add('stabilization', self%stabilization, '-', "the traction jump stabilization H_t ('none' with "// &
-               "space = 'bubble', where 'algebraic' is refused)", "'algebraic' or 'none'")
+               "space = 'bubble', where 'algebraic' is refused; 'none' with 'stabilized' is not inf-sup stable: "// &
+               "the run warns)", "'algebraic' or 'none'")
     call g%add('block', self%block, '-', "FGMRES preconditioner of the (t, u) system ('augmented' with space "// &
                "= 'bubble'; fracture_flow: 'reordered')", "'reordered', 'classical' or 'augmented'")
     call g%add('schur_precon', self%schur_precon, '-', "block = 'classical': preconditioner of -S", &

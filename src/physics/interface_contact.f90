@@ -402,6 +402,11 @@ contains
     call check_pieces(self, ctx, status)
     if (.not. status%ok()) return
     call warn_tip_skew(self, ctx, log)
+    if (.not. (self%stabilized .or. self%mc%bubble)) call log%warn("contact: stabilization = 'none' on space = "// &
+      "'stabilized': Q1 displacements with piecewise-constant tractions are not inf-sup stable without H_t, "// &
+      'so the tractions may oscillate from element to element and the iterative solve''s counts grow with '// &
+      "refinement until it fails; use stabilization = 'algebraic' (the default) or space = 'bubble' "// &
+      '(doc/contact.md, stable space)')
     if (self%mc%bubble) call log%info('contact: space bubble, u has '// &
       itoa(int(self%mc%bub%map%n_global))//' face bubbles (3 unknowns each) beside the nodes')
   end subroutine report_setup

@@ -184,6 +184,15 @@ if run straight 1; then
   [ "$r" = "elements 60  stick/slip/open 0/60/0" ] && ok "straight crack, MUMPS on 1 rank (D A D): $r" || \
     ko "straight crack, MUMPS on 1 rank: $r"
 fi
+# the unstabilized Q1-P0 pair is named before the first step (this slab's
+# z tractions then face a prescribed jump: MUMPS finds it singular, exit 2)
+deck straight_none tests/decks/contact_straight_crack.nml
+printf "&contact\n  stabilization = 'none'\n/\n" >> "$out/straight_none.nml"
+timeout 600 mpirun -np 1 bin/geoblock "$out/straight_none.nml" > "$out/straight_none.stdout" 2>&1 < /dev/null
+w="warning: contact: stabilization = 'none' on space = 'stabilized': Q1 displacements with piecewise-constant"
+grep -q "$w" "$out/straight_none.stdout" && ! grep -q "$w" "$out/straight.stdout" && \
+  ok "stabilization = 'none' on the Q1-P0 space is warned of, the default is not" || \
+  ko "unstabilized space warning: $(grep -c warning "$out/straight_none.stdout") warning line(s)"
 
 # stick = intact
 deck stick tests/decks/contact_stick.nml
