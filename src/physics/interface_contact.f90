@@ -401,6 +401,8 @@ contains
     call self%pieces%build(ctx%mesh)
     call check_pieces(self, ctx, status)
     if (.not. status%ok()) return
+    if (.not. self%stabilized) call check_free_jump(self, ctx%mesh, status)
+    if (.not. status%ok()) return
     call warn_tip_skew(self, ctx, log)
     if (.not. (self%stabilized .or. self%mc%bubble)) call log%warn("contact: stabilization = 'none' on space = "// &
       "'stabilized': Q1 displacements with piecewise-constant tractions are not inf-sup stable without H_t, "// &
@@ -1643,6 +1645,55 @@ contains
       '): such an element can neither open nor slip and its tractions are undetermined; make the fault at '// &
       'least two elements across (&fault lower, upper) or refine the mesh')
   end subroutine check_split
+  !> Without the stabilization H_t a traction is determined only by the
+  !> jump it acts on. Where the displacement conditions fix that jump on
+  !> both sides (every column of the element's row of C1 is a fixed dof: a
+  !> one-cell-thick slab with uz = 0 on both faces and its out-of-plane
+  !> traction) the traction has no equation and the system is singular.
+  !> Refused with the fault, the count, the first such element's centre and
+  !> the direction (the same on every rank). Collective.
+  subroutine check_free_jump(self, mesh, status)
+    type(interface_contact_t), intent(in) :: self
+    type(dist_mesh_t), intent(in) :: mesh
+    type(error_status_t), intent(inout) :: status
+    real(rp) :: be(3, nju), info(7)
+    integer(ip) :: e, j, c, n_bad, dofs(nju)
+    integer(gp) :: first_bad
+    integer :: first_c(3)
+    n_bad = 0
+    first_bad = huge(1_gp)
+    info = 0.0_rp
+    do e = 1, mesh%iface_map%n_owned
+      call self%jump_operator(self%mc, mesh, e, be, dofs)
+      do j = 1, 24
+        if (self%mc%mech%fixed(dofs(j))) be(:, j) = 0.0_rp
+      end do
+      first_c = 0
+      do c = 1, 3
+        if (all(be(c, :) == 0.0_rp)) first_c(c) = c
+      end do
+      if (all(first_c == 0)) cycle
+      n_bad = n_bad + count(first_c > 0)
+      if (mesh%iface_orig(e) < first_bad) then
+        first_bad = mesh%iface_orig(e)
+        c = maxval(first_c)
+        info(1:3) = sum(mesh%coords(:, mesh%iface_nodes(:, 1, e)), dim=2) / 4.0_rp
+        info(4:6) = self%rot(c, :, e)
+        info(7) = real(mesh%iface_fault(e), rp)
+      end if
+    end do
+    n_bad = mesh%comm%sum(n_bad)
+    if (n_bad == 0) return
+    if (-mesh%comm%max(-first_bad) /= first_bad) info = 0.0_rp
+    call mesh%comm%sum_all(info)
+    call status%set("fault '"//trim(mesh%fault_names(nint(info(7))))//"': "//itoa(n_bad)// &
+      ' traction component(s) act on a jump that the displacement conditions fix on both sides, the first '// &
+      'at ('//trim(rtoa(info(1)))//', '//trim(rtoa(info(2)))//', '//trim(rtoa(info(3)))//') along ('// &
+      trim(rtoa(info(4)))//', '//trim(rtoa(info(5)))//', '//trim(rtoa(info(6)))//"): with &contact "// &
+      "stabilization = 'none' nothing determines them and the system is singular; use stabilization = "// &
+      "'algebraic' (the default) or free that displacement")
+  end subroutine check_free_jump
+
   !> The interface contact component of the composition ctx, null if it has none.
   function interface_contact_of(ctx) result(p)
     type(coupling_t), intent(in) :: ctx

@@ -184,15 +184,30 @@ if run straight 1; then
   [ "$r" = "elements 60  stick/slip/open 0/60/0" ] && ok "straight crack, MUMPS on 1 rank (D A D): $r" || \
     ko "straight crack, MUMPS on 1 rank: $r"
 fi
-# the unstabilized Q1-P0 pair is named before the first step (this slab's
-# z tractions then face a prescribed jump: MUMPS finds it singular, exit 2)
+# without the stabilization: the Q1-P0 pair is warned of, and a traction
+# whose jump the boundary conditions fix (this slab's z tractions: uz = 0
+# on both faces) is refused before the first step, on 1 and 2 ranks alike
+w="warning: contact: stabilization = 'none' on space = 'stabilized': Q1 displacements with piecewise-constant"
+e="error: fault 'crack': 60 traction component(s) act on a jump that the displacement conditions fix on both sides"
 deck straight_none tests/decks/contact_straight_crack.nml
 printf "&contact\n  stabilization = 'none'\n/\n" >> "$out/straight_none.nml"
-timeout 600 mpirun -np 1 bin/geoblock "$out/straight_none.nml" > "$out/straight_none.stdout" 2>&1 < /dev/null
-w="warning: contact: stabilization = 'none' on space = 'stabilized': Q1 displacements with piecewise-constant"
-grep -q "$w" "$out/straight_none.stdout" && ! grep -q "$w" "$out/straight.stdout" && \
-  ok "stabilization = 'none' on the Q1-P0 space is warned of, the default is not" || \
-  ko "unstabilized space warning: $(grep -c warning "$out/straight_none.stdout") warning line(s)"
+for np in 1 2; do
+  timeout 600 mpirun --oversubscribe -np $np bin/geoblock "$out/straight_none.nml" > "$out/straight_none$np.stdout" \
+    2>&1 < /dev/null
+  rc=$?
+  [ $rc -eq 2 ] && grep -q "$e" "$out/straight_none$np.stdout" && ! grep -q "^load step" "$out/straight_none$np.stdout" \
+    && ok "a traction on a jump fixed on both sides, unstabilized: refused before the first step ($np rank(s))" || \
+    ko "unstabilized slab ($np rank(s)): exit $rc, $(grep -m1 error "$out/straight_none$np.stdout")"
+done
+deck stick_none tests/decks/contact_stick.nml
+printf "&contact\n  stabilization = 'none'\n/\n" >> "$out/stick_none.nml"
+if run stick_none 2; then
+  grep -q "$w" "$out/stick_none.stdout" && ! grep -q "$w" "$out/straight.stdout" && \
+    ok "stabilization = 'none' on the Q1-P0 space is warned of, the default is not" || \
+    ko "unstabilized space warning: $(grep -c warning "$out/stick_none.stdout") warning line(s)"
+  check "stick fault = intact solution, unstabilized (MUMPS, 2 ranks)" $PY tests/verification/check_contact.py stick \
+    "$out/stick_none"
+fi
 
 # stick = intact
 deck stick tests/decks/contact_stick.nml
