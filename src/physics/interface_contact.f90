@@ -903,6 +903,18 @@ contains
       end if
     end do
   end subroutine jump_operator
+
+  !> Zero the columns of be (from jump_operator) whose node dofs the
+  !> displacement conditions fix. Local.
+  subroutine drop_fixed(self, be, dofs)
+    type(interface_contact_t), intent(in) :: self
+    real(rp), intent(inout) :: be(3, nju)
+    integer(ip), intent(in) :: dofs(nju)
+    integer :: j
+    do j = 1, 24
+      if (self%mc%mech%fixed(dofs(j))) be(:, j) = 0.0_rp
+    end do
+  end subroutine drop_fixed
   !> The Jacobian blocks of the contact rows (C2 and the (t, t) block) and
   !> their rhs = -residual at the current state (x, u, trac, jump, state).
   !> Collective.
@@ -910,7 +922,7 @@ contains
     class(interface_contact_t), intent(inout), target :: self
     type(coupling_t), intent(inout), target :: ctx
     real(rp) :: be(3, nju), jt(3, nju), r(3), v(3), hb(3, 3), dd(2), dg(2), tau, nrm, p2(2, 2), z(2), cz
-    integer(ip) :: e, j, k, ed, o, dofs(nju), cols(3), ne, t0, t1
+    integer(ip) :: e, k, ed, o, dofs(nju), cols(3), ne, t0, t1
     associate (jtu => ctx%sys%a(ctx%block('t'), ctx%block('u')), jtt => ctx%sys%a(ctx%block('t'), ctx%block('t')), &
                mesh => ctx%mesh)
       call jtu%zero()
@@ -918,9 +930,7 @@ contains
       call ctx%range('t', t0, t1)
       do e = 1, mesh%iface_map%n_owned
         call self%jump_operator(self%mc, mesh, e, be, dofs)
-        do j = 1, 24
-          if (self%mc%mech%fixed(dofs(j))) be(:, j) = 0.0_rp
-        end do
+        call drop_fixed(self, be, dofs)
         cols = self%t%dof(e, [1_ip, 2_ip, 3_ip])
         ne = ncon(self%state(e))
         r = 0.0_rp
@@ -1617,31 +1627,23 @@ contains
   subroutine check_split(mesh, status)
     type(dist_mesh_t), intent(in) :: mesh
     type(error_status_t), intent(inout) :: status
-    integer(ip) :: e, n_bad, fidx
+    integer(ip) :: e, n_bad
     integer(gp) :: first_bad
-    real(rp) :: centre(3)
+    real(rp) :: info(7)
     n_bad = 0
     first_bad = huge(1_gp)
+    info = 0.0_rp
     do e = 1, mesh%iface_map%n_owned
       if (any(mesh%iface_nodes(:, 1, e) /= mesh%iface_nodes(:, 2, e))) cycle
       n_bad = n_bad + 1
-      first_bad = min(first_bad, mesh%iface_orig(e))
+      if (mesh%iface_orig(e) < first_bad) call note_first(mesh, e, [0.0_rp, 0.0_rp, 0.0_rp], first_bad, info)
     end do
     n_bad = mesh%comm%sum(n_bad)
     if (n_bad == 0) return
-    first_bad = -mesh%comm%max(-first_bad)
-    centre = 0.0_rp
-    fidx = 0
-    do e = 1, mesh%iface_map%n_owned
-      if (mesh%iface_orig(e) /= first_bad) cycle
-      centre = sum(mesh%coords(:, mesh%iface_nodes(:, 1, e)), dim=2) / 4.0_rp
-      fidx = mesh%iface_fault(e)
-    end do
-    call mesh%comm%sum_all(centre)
-    fidx = mesh%comm%max(fidx)
-    call status%set("fault '"//trim(mesh%fault_names(fidx))//"': "//itoa(n_bad)// &
+    call agree_first(mesh, first_bad, info)
+    call status%set("fault '"//trim(mesh%fault_names(nint(info(7))))//"': "//itoa(n_bad)// &
       " interface element(s) with no split node (all four nodes on the fault's edge), the first centred at ("// &
-      trim(rtoa(centre(1)))//', '//trim(rtoa(centre(2)))//', '//trim(rtoa(centre(3)))// &
+      trim(rtoa(info(1)))//', '//trim(rtoa(info(2)))//', '//trim(rtoa(info(3)))// &
       '): such an element can neither open nor slip and its tractions are undetermined; make the fault at '// &
       'least two elements across (&fault lower, upper) or refine the mesh')
   end subroutine check_split
@@ -1657,35 +1659,24 @@ contains
     type(dist_mesh_t), intent(in) :: mesh
     type(error_status_t), intent(inout) :: status
     real(rp) :: be(3, nju), info(7)
-    integer(ip) :: e, j, c, n_bad, dofs(nju)
+    integer(ip) :: e, c, n_bad, dofs(nju)
     integer(gp) :: first_bad
-    integer :: first_c(3)
+    logical :: free_row(3)
     n_bad = 0
     first_bad = huge(1_gp)
     info = 0.0_rp
     do e = 1, mesh%iface_map%n_owned
       call self%jump_operator(self%mc, mesh, e, be, dofs)
-      do j = 1, 24
-        if (self%mc%mech%fixed(dofs(j))) be(:, j) = 0.0_rp
-      end do
-      first_c = 0
-      do c = 1, 3
-        if (all(be(c, :) == 0.0_rp)) first_c(c) = c
-      end do
-      if (all(first_c == 0)) cycle
-      n_bad = n_bad + count(first_c > 0)
-      if (mesh%iface_orig(e) < first_bad) then
-        first_bad = mesh%iface_orig(e)
-        c = maxval(first_c)
-        info(1:3) = sum(mesh%coords(:, mesh%iface_nodes(:, 1, e)), dim=2) / 4.0_rp
-        info(4:6) = self%rot(c, :, e)
-        info(7) = real(mesh%iface_fault(e), rp)
-      end if
+      call drop_fixed(self, be, dofs)
+      free_row = [(all(be(c, :) == 0.0_rp), c = 1, 3)]
+      if (.not. any(free_row)) cycle
+      n_bad = n_bad + count(free_row)
+      if (mesh%iface_orig(e) < first_bad) &
+        call note_first(mesh, e, self%rot(findloc(free_row, .true., dim=1), :, e), first_bad, info)
     end do
     n_bad = mesh%comm%sum(n_bad)
     if (n_bad == 0) return
-    if (-mesh%comm%max(-first_bad) /= first_bad) info = 0.0_rp
-    call mesh%comm%sum_all(info)
+    call agree_first(mesh, first_bad, info)
     call status%set("fault '"//trim(mesh%fault_names(nint(info(7))))//"': "//itoa(n_bad)// &
       ' traction component(s) act on a jump that the displacement conditions fix on both sides, the first '// &
       'at ('//trim(rtoa(info(1)))//', '//trim(rtoa(info(2)))//', '//trim(rtoa(info(3)))//') along ('// &
@@ -1693,6 +1684,31 @@ contains
       "stabilization = 'none' nothing determines them and the system is singular; use stabilization = "// &
       "'algebraic' (the default) or free that displacement")
   end subroutine check_free_jump
+
+  !> Element e is the first offender so far (by its original id): keep its
+  !> id and, in info, its centre (1:3), a direction (4:6) and its fault
+  !> (7), for agree_first. Local.
+  subroutine note_first(mesh, e, direction, first_bad, info)
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(ip), intent(in) :: e
+    real(rp), intent(in) :: direction(3)
+    integer(gp), intent(inout) :: first_bad
+    real(rp), intent(inout) :: info(7)
+    first_bad = mesh%iface_orig(e)
+    info(1:3) = sum(mesh%coords(:, mesh%iface_nodes(:, 1, e)), dim=2) / 4.0_rp
+    info(4:6) = direction
+    info(7) = real(mesh%iface_fault(e), rp)
+  end subroutine note_first
+
+  !> The info of note_first of the first offender over all ranks (the
+  !> smallest original id), on every rank. Collective.
+  subroutine agree_first(mesh, first_bad, info)
+    type(dist_mesh_t), intent(in) :: mesh
+    integer(gp), intent(in) :: first_bad
+    real(rp), intent(inout) :: info(7)
+    if (-mesh%comm%max(-first_bad) /= first_bad) info = 0.0_rp
+    call mesh%comm%sum_all(info)
+  end subroutine agree_first
 
   !> The interface contact component of the composition ctx, null if it has none.
   function interface_contact_of(ctx) result(p)
